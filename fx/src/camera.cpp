@@ -1,0 +1,125 @@
+#include "fx/camera.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "fx/error.hpp"
+
+namespace fx {
+
+glm::dvec3 Camera::forward() const { return glm::normalize(target - eye); }
+
+glm::dmat4 Camera::view_matrix() const { return glm::lookAt(eye, target, up); }
+
+glm::dmat4 Camera::projection_matrix(double aspect) const {
+    if (orthographic()) {
+        const double h = 0.5 * ortho_height;
+        const double w = h * aspect;
+        return glm::ortho(-w, w, -h, h, near_distance, far_distance);
+    }
+    return glm::perspective(glm::radians(fov_y_degrees), aspect, near_distance, far_distance);
+}
+
+Ray Camera::pixel_ray(double x, double y, int width, int height) const {
+    const glm::dvec3 f = forward();
+    const glm::dvec3 r = glm::normalize(glm::cross(f, up));
+    const glm::dvec3 u = glm::cross(r, f);
+    const double aspect = static_cast<double>(width) / height;
+    // Normalised device coordinates of the point in [-1, 1].
+    const double ndc_x = 2.0 * x / width - 1.0;
+    const double ndc_y = 2.0 * y / height - 1.0;
+    if (orthographic()) {
+        const double h = 0.5 * ortho_height;
+        return Ray{eye + r * (ndc_x * h * aspect) + u * (ndc_y * h), f};
+    }
+    const double t = std::tan(0.5 * glm::radians(fov_y_degrees));
+    return Ray{eye, glm::normalize(f + r * (ndc_x * t * aspect) + u * (ndc_y * t))};
+}
+
+namespace {
+
+double parse_number(std::string_view text, std::string_view key) {
+    const std::string s(text);
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
+        throw Error("camera: " + std::string(key) + ": '" + s + "' is not a finite number");
+    }
+    return v;
+}
+
+} // namespace
+
+Camera Camera::parse(std::string_view spec) {
+    Camera cam;
+    // Tokens are comma separated; a key=... starts a new value, bare numbers continue a vector.
+    std::string key;
+    std::vector<double> values;
+    auto flush = [&]() {
+        if (key.empty()) return;
+        auto need = [&](std::size_t n) {
+            if (values.size() != n) {
+                throw Error("camera: " + key + " needs " + std::to_string(n) + " number" + (n > 1 ? "s" : "") +
+                            ", got " + std::to_string(values.size()));
+            }
+        };
+        if (key == "eye") { need(3); cam.eye = {values[0], values[1], values[2]}; }
+        else if (key == "target") { need(3); cam.target = {values[0], values[1], values[2]}; }
+        else if (key == "up") { need(3); cam.up = {values[0], values[1], values[2]}; }
+        else if (key == "fov") { need(1); cam.fov_y_degrees = values[0]; cam.ortho_height = 0.0; }
+        else if (key == "ortho") { need(1); cam.ortho_height = values[0]; }
+        else if (key == "near") { need(1); cam.near_distance = values[0]; }
+        else if (key == "far") { need(1); cam.far_distance = values[0]; }
+        else throw Error("camera: unknown key '" + key + "' (expected eye, target, up, fov, ortho, near, far)");
+        key.clear();
+        values.clear();
+    };
+    std::size_t pos = 0;
+    while (pos <= spec.size()) {
+        std::size_t comma = spec.find(',', pos);
+        if (comma == std::string_view::npos) comma = spec.size();
+        std::string_view token = spec.substr(pos, comma - pos);
+        const std::size_t eq = token.find('=');
+        if (eq != std::string_view::npos) {
+            flush();
+            key = std::string(token.substr(0, eq));
+            token = token.substr(eq + 1);
+        } else if (key.empty() && !token.empty()) {
+            throw Error("camera: '" + std::string(token) + "' has no key (write e.g. eye=0,0,5)");
+        }
+        if (!token.empty() || eq != std::string_view::npos) values.push_back(parse_number(token, key));
+        pos = comma + 1;
+    }
+    flush();
+    if (glm::length(cam.target - cam.eye) <= 0.0) throw Error("camera: eye and target coincide");
+    if (glm::length(glm::cross(cam.target - cam.eye, cam.up)) <= 0.0) {
+        throw Error("camera: up is parallel to the view direction");
+    }
+    if (!cam.orthographic() && !(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) {
+        throw Error("camera: fov must be in (0, 180) degrees");
+    }
+    if (!(cam.near_distance > 0.0) || !(cam.far_distance > cam.near_distance)) {
+        throw Error("camera: need 0 < near < far");
+    }
+    return cam;
+}
+
+Camera Camera::framing(const glm::dvec3& lo, const glm::dvec3& hi, double fov_y_degrees) {
+    Camera cam;
+    cam.fov_y_degrees = fov_y_degrees;
+    cam.target = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-12);
+    const double distance = radius / std::sin(0.5 * glm::radians(fov_y_degrees)) * 1.05;
+    cam.eye = cam.target + glm::normalize(glm::dvec3(1.0, 0.8, 1.2)) * distance;
+    cam.up = glm::dvec3(0.0, 0.0, 1.0);
+    cam.near_distance = std::max(distance - 1.5 * radius, distance * 1e-3);
+    cam.far_distance = distance + 1.5 * radius;
+    return cam;
+}
+
+} // namespace fx

@@ -1,0 +1,97 @@
+#include "fx/image.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <stb_image_write.h>
+
+#include "fx/error.hpp"
+
+namespace fx {
+
+Image::Image(int w, int h, glm::vec4 fill)
+    : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), fill) {}
+
+void composite_over(Image& image, const glm::vec3& background) {
+    for (glm::vec4& p : image.pixels) {
+        const float t = 1.0f - p.a;
+        p = glm::vec4(glm::vec3(p) + t * background, 1.0f);
+    }
+}
+
+void write_png(const Image& image, const std::string& path) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(image.width) * image.height * 4);
+    for (int y = 0; y < image.height; ++y) {
+        const int row = image.height - 1 - y; // PNG is top-down
+        for (int x = 0; x < image.width; ++x) {
+            const glm::vec4& p = image.at(x, y);
+            std::uint8_t* out = &bytes[(static_cast<std::size_t>(row) * image.width + x) * 4];
+            for (int c = 0; c < 4; ++c) {
+                const float v = std::isfinite(p[c]) ? std::clamp(p[c], 0.0f, 1.0f) : 0.0f;
+                out[c] = static_cast<std::uint8_t>(std::lround(v * 255.0f));
+            }
+        }
+    }
+    if (!stbi_write_png(path.c_str(), image.width, image.height, 4, bytes.data(), image.width * 4)) {
+        throw Error(path + ": cannot write PNG");
+    }
+}
+
+void write_pfm(const Image& image, const std::string& path) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw Error(path + ": cannot open for writing");
+    out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+    std::vector<float> row(static_cast<std::size_t>(image.width) * 3);
+    for (int y = 0; y < image.height; ++y) { // PFM stores the bottom row first, like Image
+        for (int x = 0; x < image.width; ++x) {
+            const glm::vec4& p = image.at(x, y);
+            row[x * 3 + 0] = p.r;
+            row[x * 3 + 1] = p.g;
+            row[x * 3 + 2] = p.b;
+        }
+        out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(float)));
+    }
+    if (!out) throw Error(path + ": write failed");
+}
+
+Image read_pfm(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open");
+    std::string magic;
+    int w = 0, h = 0;
+    double scale = 0.0;
+    in >> magic >> w >> h >> scale;
+    if (!in || magic != "PF") throw Error(path + ": not a colour PFM (expected 'PF' header)");
+    if (w <= 0 || h <= 0 || w > 65536 || h > 65536) throw Error(path + ": bad PFM size");
+    if (scale >= 0.0) throw Error(path + ": big-endian PFM is not supported (scale must be negative)");
+    in.get(); // the single whitespace after the scale
+    Image image(w, h);
+    std::vector<float> row(static_cast<std::size_t>(w) * 3);
+    for (int y = 0; y < h; ++y) {
+        in.read(reinterpret_cast<char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(float)));
+        if (!in) throw Error(path + ": truncated at row " + std::to_string(y));
+        for (int x = 0; x < w; ++x) image.at(x, y) = glm::vec4(row[x * 3], row[x * 3 + 1], row[x * 3 + 2], 1.0f);
+    }
+    return image;
+}
+
+void write_image(const Image& image, const std::string& path) {
+    auto ends_with = [&](const char* ext) {
+        const std::size_t n = std::strlen(ext);
+        if (path.size() < n) return false;
+        std::string tail = path.substr(path.size() - n);
+        std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return std::tolower(c); });
+        return tail == ext;
+    };
+    if (ends_with(".png")) write_png(image, path);
+    else if (ends_with(".pfm")) write_pfm(image, path);
+    else throw Error(path + ": unknown image type (use .png or .pfm)");
+}
+
+} // namespace fx

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs the Debian packages cellfx builds and runs with. Idempotent: quiet when all are
+# present. Run as root on Debian 12 (or with sudo available).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # headless OpenGL 4.5 (EGL, Mesa llvmpipe)
+  libepoxy-dev libglfw3-dev libglm-dev libstb-dev     # GL loader, windows, maths, images
+  nlohmann-json3-dev catch2 libbenchmark-dev          # JSON, tests, micro-benchmarks
+  xvfb xauth                                          # a real GLFW window in tests, without a display
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup.sh: missing packages (${missing[*]}) and not root" >&2; exit 1; }
+  sudo="sudo"
+fi
+echo "setup.sh: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
