@@ -12,3 +12,10 @@ int run_render(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 
 } // namespace cellfx_cli
+
+namespace cellfx_cli {
+
+// `cellfx bench scanline`: the synthetic nine-grid data set of Wilhelms et al. Table 3.
+int bench_scanline(const std::vector<std::string>& args);
+
+} // namespace cellfx_cli

@@ -97,6 +97,11 @@ struct CellMesh {
     std::size_t memory_bytes() const;
 };
 
+// Splits a cell face into triangles with global vertex indices, outward winding kept. A quad
+// is cut by the diagonal from its smallest global vertex index (Max, Williams & Silva 2000,
+// §IV), so the two cells sharing it always agree. Returns the number of triangles (1 or 2).
+int triangulate_face(const CellFace& face, const std::uint32_t* cell_vertices, std::uint32_t out[2][3]);
+
 // Bounds of the points referenced by cells (unreferenced points are ignored). Empty bounds
 // (lo > hi) for a mesh with no cells.
 Bounds mesh_bounds(const CellMesh& mesh);

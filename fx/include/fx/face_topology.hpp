@@ -1,0 +1,35 @@
+// cellfx — which cell faces touch, and which lie on the boundary.
+//
+// Faces are matched by their vertex index sets (not by coordinates), so two cells are
+// neighbours exactly when they share a face's vertex indices; blocks with separate points
+// (PLOT3D zones) never match each other. A quad shared with two triangles of a
+// tetrahedralised neighbour does not match: both sides count as boundary.
+//
+// Face slots: the faces of cell c are slots first_face[c] .. first_face[c+1]-1, in the order
+// of cell_faces(type). Built once per mesh topology; O(F log F) in the number of faces.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "fx/cell_mesh.hpp"
+
+namespace fx {
+
+struct FaceTopology {
+    static constexpr std::uint32_t kBoundary = 0xFFFFFFFFu;
+
+    std::vector<std::uint32_t> first_face;     // cell_count + 1 entries
+    std::vector<std::uint32_t> neighbour;      // per slot: neighbour's face slot, or kBoundary
+    std::vector<std::uint32_t> slot_cell;      // per slot: the cell it belongs to
+    std::vector<std::uint32_t> boundary_faces; // slots with no neighbour, ascending
+    std::size_t non_manifold_faces = 0;        // vertex sets shared by more than two cells
+
+    std::size_t face_slot_count() const { return neighbour.size(); }
+    std::size_t memory_bytes() const;
+};
+
+FaceTopology build_face_topology(const CellMesh& mesh);
+
+} // namespace fx

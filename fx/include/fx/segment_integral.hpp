@@ -1,0 +1,66 @@
+// cellfx — exact integrals of a transfer function along one ray segment.
+//
+// Based on: Williams & Max 1992 (volume density optical model) and Max, Williams & Silva
+// 2000 §II. A segment of length `length` (world units) has scalar s_front at the end nearer
+// the eye and s_back at the far end, linear in between. The segment is split where s crosses
+// a breakpoint of the transfer function; on each piece colour and sigma are linear along the
+// ray, and the integrals below are evaluated in closed form (no quadrature).
+//
+// These functions are the one source of truth: the CPU scan-line reference calls them per
+// pixel, and the GPU paths' lookup tables are built from them.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "fx/transfer_function.hpp"
+
+namespace fx {
+
+// Emission only: ∫₀ˡ c(s(t))·σ(s(t)) dt. Exact for l → 0 (→ 0) and s_front == s_back.
+glm::dvec3 emission_integral(const TransferFunction& tf, double s_front, double s_back, double length);
+
+// Maximum intensity: the per-channel maximum of the emission c(s)·σ(s) over the scalar
+// interval between s_front and s_back (breakpoints inside it included).
+glm::dvec3 segment_maximum(const TransferFunction& tf, double s_front, double s_back);
+
+// Emission–absorption (volume density model), front to back:
+//   colour = ∫₀ˡ c(t)σ(t)·exp(−∫₀ᵗ σ) dt   (premultiplied),   alpha = 1 − exp(−τ),   τ = ∫₀ˡ σ.
+// Stable for huge extinction (exp underflow → alpha 1, colour finite), tiny extinction
+// (1 − e^(−x) without cancellation) and l → 0.
+struct SegmentColor {
+    glm::dvec3 color{0.0};
+    double alpha = 0.0;
+    double optical_depth = 0.0; // τ
+};
+SegmentColor emission_absorption(const TransferFunction& tf, double s_front, double s_back, double length);
+
+// Front-to-back "over": `front` in front of `back`.
+SegmentColor composite(const SegmentColor& front, const SegmentColor& back);
+
+// ∫ from the first control point's s to s of c(u)·σ(u) du (per unit scalar). The emission of
+// a segment is then length·(E(s_b) − E(s_f))/(s_b − s_f), which is what a GPU emission table
+// stores.
+glm::dvec3 cumulative_emission(const TransferFunction& tf, double s);
+
+// Lookup tables for the GPU paths (no GL here; the render paths upload them).
+struct EmissionTable {
+    double s_lo = 0.0, s_hi = 1.0;      // table covers [s_lo, s_hi] in `size` samples
+    std::vector<glm::vec3> cumulative;  // E(s) at each sample
+};
+EmissionTable build_emission_table(const TransferFunction& tf, std::size_t size);
+
+// Pre-integration table over (s_front, s_back, length), for the exact absorption path:
+// entry [(il * n_s + ib) * n_s + if] = emission_absorption(s_f, s_b, l) with s_f, s_b on
+// n_s samples of [s_lo, s_hi] and l on n_l samples of [0, max_length].
+struct PreintegrationTable {
+    double s_lo = 0.0, s_hi = 1.0, max_length = 1.0;
+    std::size_t n_s = 0, n_l = 0;
+    std::vector<glm::vec4> rgba; // premultiplied colour, alpha
+};
+PreintegrationTable build_preintegration_table(const TransferFunction& tf, std::size_t n_s, std::size_t n_l,
+                                               double max_length);
+
+} // namespace fx

@@ -1,0 +1,58 @@
+// cellfx — piecewise-linear transfer functions: scalar → colour and extinction.
+//
+// A transfer function is a list of control points (s, r, g, b, sigma) with s non-decreasing.
+// Between points colour and sigma are linear in s; a point repeated at the same s makes a
+// step (discontinuity): the first entry is the value approaching from below, the second from
+// above. Outside [first s, last s] the end values are held. sigma is extinction per world
+// unit; the emitted light per unit length is colour·sigma ("glowing particles"), so the same
+// file drives emission-only, MIP and emission–absorption paths.
+//
+// File form (JSON): {"points": [[s, r, g, b, sigma], ...]} with optional "normalized": true,
+// meaning s runs over [0, 1] and is to be mapped onto a scalar field's range with
+// rescaled(). Every value must be finite, colour and sigma non-negative.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace fx {
+
+struct TransferPoint {
+    double s;
+    glm::dvec3 color;
+    double sigma;
+};
+
+class TransferFunction {
+public:
+    TransferFunction() = default;
+    // Throws fx::Error if points are unsorted, non-finite, negative, or a scalar value
+    // appears more than twice.
+    explicit TransferFunction(std::vector<TransferPoint> points, bool normalized = false);
+
+    // Parses the JSON form; errors name `source` (a file name) and the offending entry.
+    static TransferFunction parse_json(std::string_view text, const std::string& source);
+    static TransferFunction read_json(const std::string& path);
+    // Colour c and extinction sigma everywhere.
+    static TransferFunction constant(const glm::dvec3& color, double sigma);
+
+    const std::vector<TransferPoint>& points() const { return points_; }
+    bool normalized() const { return normalized_; }
+    // The same function with its s range [first, last] mapped linearly onto [lo, hi]
+    // (normalized() becomes false).
+    TransferFunction rescaled(double lo, double hi) const;
+
+    // Values at s; at a step, the value from above (right-continuous).
+    glm::dvec3 color(double s) const;
+    double sigma(double s) const;
+    glm::dvec3 emission(double s) const { return color(s) * sigma(s); }
+
+private:
+    std::vector<TransferPoint> points_;
+    bool normalized_ = false;
+};
+
+} // namespace fx
