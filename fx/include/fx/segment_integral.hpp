@@ -8,12 +8,19 @@
 //
 // These functions are the one source of truth: the CPU scan-line reference calls them per
 // pixel, and the GPU paths' lookup tables are built from them.
+//
+// Conventions shared by all of them: s_front > s_back is fine (the ray runs down the scalar);
+// a breakpoint step is crossed with the value on the side the ray comes from; scalars outside
+// the control points see the held end values; with s_front == s_back the value at s is the one
+// from above (TransferFunction::color/sigma). length <= 0 (or NaN) is an empty segment.
+// Scalars must be finite. No allocation; safe to call from many threads at once.
 #pragma once
 
 #include <cstddef>
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp> // PreintegrationTable::rgba
 
 #include "fx/transfer_function.hpp"
 
@@ -23,7 +30,8 @@ namespace fx {
 glm::dvec3 emission_integral(const TransferFunction& tf, double s_front, double s_back, double length);
 
 // Maximum intensity: the per-channel maximum of the emission c(s)·σ(s) over the scalar
-// interval between s_front and s_back (breakpoints inside it included).
+// interval between s_front and s_back (breakpoints inside it included: both sides of a step
+// inside the interval count; at an end of the interval, only the side inside it).
 glm::dvec3 segment_maximum(const TransferFunction& tf, double s_front, double s_back);
 
 // Emission–absorption (volume density model), front to back:
@@ -37,15 +45,21 @@ struct SegmentColor {
 };
 SegmentColor emission_absorption(const TransferFunction& tf, double s_front, double s_back, double length);
 
-// Front-to-back "over": `front` in front of `back`.
+// Front-to-back "over": `front` in front of `back`. Uses the alphas (colour and alpha add with
+// weight 1 − front.alpha); optical depths add.
 SegmentColor composite(const SegmentColor& front, const SegmentColor& back);
 
 // ∫ from the first control point's s to s of c(u)·σ(u) du (per unit scalar). The emission of
 // a segment is then length·(E(s_b) − E(s_f))/(s_b − s_f), which is what a GPU emission table
-// stores.
+// stores. Below the first point E is negative and linear (held end value); above the last it
+// grows linearly with the last emission.
 glm::dvec3 cumulative_emission(const TransferFunction& tf, double s);
 
 // Lookup tables for the GPU paths (no GL here; the render paths upload them).
+// Both tables cover the control points' range [first s, last s] (a unit range centred on the
+// point when all share one s), sample i at s_lo + i·(s_hi − s_lo)/(count − 1). They throw
+// fx::Error for fewer than 2 samples along any axis, a non-positive or non-finite max_length,
+// or a transfer function without points.
 struct EmissionTable {
     double s_lo = 0.0, s_hi = 1.0;      // table covers [s_lo, s_hi] in `size` samples
     std::vector<glm::vec3> cumulative;  // E(s) at each sample

@@ -8,8 +8,10 @@
 // file drives emission-only, MIP and emission–absorption paths.
 //
 // File form (JSON): {"points": [[s, r, g, b, sigma], ...]} with optional "normalized": true,
-// meaning s runs over [0, 1] and is to be mapped onto a scalar field's range with
-// rescaled(). Every value must be finite, colour and sigma non-negative.
+// meaning s runs from exactly 0 to exactly 1 (or, for a single s value, lies in [0, 1]) and is
+// to be mapped onto a scalar field's range with rescaled(); optional "description": a string.
+// Other keys are rejected. Every value must be finite, colour and sigma non-negative.
+// content/transfer_functions/README.md describes the format for users.
 #pragma once
 
 #include <string>
@@ -28,12 +30,15 @@ struct TransferPoint {
 
 class TransferFunction {
 public:
+    // No points: colour and sigma are zero everywhere (nothing is drawn).
     TransferFunction() = default;
-    // Throws fx::Error if points are unsorted, non-finite, negative, or a scalar value
-    // appears more than twice.
+    // Throws fx::Error if points are empty, unsorted, non-finite, negative, a scalar value
+    // appears more than twice, or `normalized` is set and s does not run from 0 to 1. Messages
+    // name the entry: "transfer function: points[3]: sigma is negative".
     explicit TransferFunction(std::vector<TransferPoint> points, bool normalized = false);
 
-    // Parses the JSON form; errors name `source` (a file name) and the offending entry.
+    // Parses the JSON form; errors name `source` (a file name) and the offending entry or key
+    // ("fire.json: points[3]: sigma is negative"); syntax errors give nlohmann's byte position.
     static TransferFunction parse_json(std::string_view text, const std::string& source);
     static TransferFunction read_json(const std::string& path);
     // Colour c and extinction sigma everywhere.
@@ -42,7 +47,8 @@ public:
     const std::vector<TransferPoint>& points() const { return points_; }
     bool normalized() const { return normalized_; }
     // The same function with its s range [first, last] mapped linearly onto [lo, hi]
-    // (normalized() becomes false).
+    // (normalized() becomes false). lo > hi mirrors the function; lo == hi or a non-finite
+    // bound throws fx::Error. A function whose points all share one s is centred in [lo, hi].
     TransferFunction rescaled(double lo, double hi) const;
 
     // Values at s; at a step, the value from above (right-continuous).

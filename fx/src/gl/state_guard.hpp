@@ -1,0 +1,90 @@
+// cellfx — saves the host's GL state on construction and restores it on destruction.
+//
+// cellfx renders inside the host's (a game's) context and frame, so every render entry point
+// holds a StateGuard while it changes state. Saved and restored, exactly:
+//   - draw and read framebuffer bindings; for every viewport index (ARB_viewport_array, up to
+//     kViewports): viewport, scissor test and scissor box;
+//   - per draw buffer: blend enable, blend func separate, blend equation separate, colour mask
+//     (indexed, so a host with per-buffer blending gets it back); blend colour;
+//   - depth test, depth func, depth mask, depth clamp; stencil test; cull face enable + mode,
+//     front face; polygon mode; polygon offset fill/line/point enables, factor and units;
+//     clip control (origin, depth mode); primitive restart (+ fixed index) and its index;
+//     rasterizer discard, framebuffer sRGB, multisample, sample alpha-to-coverage, dither;
+//     clear colour and clear depth;
+//   - current program, vertex array binding, array buffer binding;
+//   - active texture unit; on units 0..kUnits-1: texture bindings for 1D, 2D, 3D and buffer
+//     textures and the sampler binding;
+//   - uniform and shader storage buffers: generic bindings and indexed bindings 0..kUnits-1
+//     (buffer, offset, size);
+//   - pixel pack/unpack buffer bindings and pack/unpack alignment, row length, skip pixels/rows,
+//     image height (+ unpack skip images).
+// Render paths must not touch GL state outside this list (extend the list first).
+//
+// Not copyable or movable: a guard lives in one scope. The context that was current at
+// construction must be current at destruction. Objects bound by the host must still exist
+// at destruction (the guard re-binds names, it does not keep them alive).
+#pragma once
+
+#include <array>
+
+#include <epoxy/gl.h>
+
+namespace fx::gl {
+
+class StateGuard {
+public:
+    static constexpr int kUnits = 4;       // texture units / indexed buffer bindings saved
+    static constexpr int kDrawBuffers = 8; // indexed blend/colour-mask state saved (≤ GL max)
+    static constexpr int kViewports = 16;  // indexed viewport/scissor state saved (≤ GL max)
+
+    StateGuard();
+    ~StateGuard();
+    StateGuard(const StateGuard&) = delete;
+    StateGuard& operator=(const StateGuard&) = delete;
+
+    // Puts the state render paths expect as a starting point: blend, depth, stencil, cull,
+    // scissor, polygon offset, rasterizer discard, primitive restart, sRGB off; fill polygons;
+    // colour and depth writes on; clip control GL defaults; pack/unpack tightly packed
+    // (alignment 1) with no pixel buffers bound. Bindings, viewport and program are untouched.
+    static void set_render_defaults();
+
+private:
+    struct IndexedBuffer {
+        GLint buffer = 0;
+        GLint64 start = 0, size = 0;
+    };
+    struct DrawBufferState {
+        GLboolean blend = GL_FALSE;
+        GLint src_rgb = 0, dst_rgb = 0, src_alpha = 0, dst_alpha = 0;
+        GLint eq_rgb = 0, eq_alpha = 0;
+        std::array<GLboolean, 4> color_mask{};
+    };
+
+    int draw_buffers_ = 0, viewports_ = 0;
+    GLint draw_fbo_ = 0, read_fbo_ = 0;
+    std::array<std::array<GLfloat, 4>, kViewports> viewport_{};
+    std::array<std::array<GLint, 4>, kViewports> scissor_box_{};
+    std::array<GLboolean, kViewports> scissor_test_{};
+    std::array<DrawBufferState, kDrawBuffers> draw_buffer_{};
+    std::array<GLfloat, 4> blend_color_{}, clear_color_{};
+    GLdouble clear_depth_ = 1.0;
+    GLint depth_func_ = 0, cull_mode_ = 0, front_face_ = 0, polygon_mode_ = 0;
+    GLboolean depth_mask_ = GL_TRUE;
+    GLfloat offset_factor_ = 0.0f, offset_units_ = 0.0f;
+    GLint clip_origin_ = 0, clip_depth_mode_ = 0;
+    GLint restart_index_ = 0;
+    GLint program_ = 0, vertex_array_ = 0, array_buffer_ = 0;
+    GLint active_texture_ = 0;
+    std::array<std::array<GLint, 4>, kUnits> textures_{}; // 1D, 2D, 3D, buffer per unit
+    std::array<GLint, kUnits> samplers_{};
+    GLint uniform_buffer_ = 0, storage_buffer_ = 0;
+    std::array<IndexedBuffer, kUnits> uniform_buffers_{}, storage_buffers_{};
+    GLint pack_buffer_ = 0, unpack_buffer_ = 0;
+    std::array<GLint, 5> pack_{};   // alignment, row length, skip pixels, skip rows, image height
+    std::array<GLint, 6> unpack_{}; // the same + skip images
+
+    static constexpr int kCapCount = 14; // see kCaps in state_guard.cpp
+    std::array<GLboolean, kCapCount> caps_{};
+};
+
+} // namespace fx::gl

@@ -1,0 +1,90 @@
+#include "options.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "fx/error.hpp"
+
+namespace cellfx_cli {
+
+bool ParsedArgs::has(const std::string& key) const {
+    return std::any_of(options.begin(), options.end(), [&](const auto& kv) { return kv.first == key; });
+}
+
+std::string ParsedArgs::get(const std::string& key, const std::string& fallback) const {
+    for (auto it = options.rbegin(); it != options.rend(); ++it) {
+        if (it->first == key) return it->second;
+    }
+    return fallback;
+}
+
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<std::string>& flags) {
+    ParsedArgs parsed;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a.size() < 3 || a.compare(0, 2, "--") != 0) {
+            parsed.positional.push_back(a);
+            continue;
+        }
+        std::string key = a.substr(2), value;
+        const std::size_t eq = key.find('=');
+        if (eq != std::string::npos) {
+            value = key.substr(eq + 1);
+            key = key.substr(0, eq);
+        } else if (std::find(flags.begin(), flags.end(), key) == flags.end()) {
+            if (i + 1 >= args.size()) throw fx::Error("--" + key + " needs a value");
+            value = args[++i];
+        }
+        parsed.options.emplace_back(key, value);
+    }
+    return parsed;
+}
+
+void require_known(const ParsedArgs& parsed, const std::vector<std::string>& known) {
+    for (const auto& [key, value] : parsed.options) {
+        if (std::find(known.begin(), known.end(), key) == known.end()) throw fx::Error("unknown option --" + key);
+    }
+}
+
+double parse_double(const std::string& text, const std::string& what) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) {
+        throw fx::Error(what + ": '" + text + "' is not a finite number");
+    }
+    return v;
+}
+
+int parse_int(const std::string& text, const std::string& what) {
+    char* end = nullptr;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || end != text.c_str() + text.size() || v < -1000000000L || v > 1000000000L) {
+        throw fx::Error(what + ": '" + text + "' is not an integer");
+    }
+    return static_cast<int>(v);
+}
+
+void parse_size(const std::string& text, int& width, int& height) {
+    const std::size_t x = text.find('x');
+    if (x == std::string::npos) throw fx::Error("--size: '" + text + "' is not WxH (e.g. 512x512)");
+    width = parse_int(text.substr(0, x), "--size width");
+    height = parse_int(text.substr(x + 1), "--size height");
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
+        throw fx::Error("--size: " + text + " is outside 1x1 .. 16384x16384");
+    }
+}
+
+glm::dvec3 parse_vec3(const std::string& text, const std::string& what) {
+    glm::dvec3 v;
+    std::size_t start = 0;
+    for (int i = 0; i < 3; ++i) {
+        const std::size_t comma = text.find(',', start);
+        if ((i < 2) != (comma != std::string::npos)) throw fx::Error(what + ": '" + text + "' is not x,y,z");
+        v[i] = parse_double(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start), what);
+        start = comma + 1;
+    }
+    return v;
+}
+
+} // namespace cellfx_cli

@@ -1,0 +1,28 @@
+// Small helpers shared by the cellfx subcommands for reading "--key value" options.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace cellfx_cli {
+
+// Splits arguments into positional ones and "--key value" / "--flag" options. `flags` lists
+// the options that take no value. Unknown keys are the caller's to reject.
+struct ParsedArgs {
+    std::vector<std::string> positional;
+    std::vector<std::pair<std::string, std::string>> options; // key without "--", value
+    bool has(const std::string& key) const;
+    std::string get(const std::string& key, const std::string& fallback = "") const;
+};
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<std::string>& flags);
+// Throws fx::Error naming the option unless every key is in `known`.
+void require_known(const ParsedArgs& parsed, const std::vector<std::string>& known);
+
+double parse_double(const std::string& text, const std::string& what);
+int parse_int(const std::string& text, const std::string& what);
+void parse_size(const std::string& text, int& width, int& height); // "WxH"
+glm::dvec3 parse_vec3(const std::string& text, const std::string& what);
+
+} // namespace cellfx_cli

@@ -1,0 +1,176 @@
+// `cellfx render FILE [Q_FILE] --path NAME ...`: one frame of a mesh, written to PNG or PFM.
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "fx/camera.hpp"
+#include "fx/error.hpp"
+#include "fx/image.hpp"
+#include "fx/mesh_io.hpp"
+#include "fx/scanline_renderer.hpp"
+#include "fx/transfer_function.hpp"
+#include "options.hpp"
+
+namespace cellfx_cli {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: cellfx render FILE [Q_FILE] --out FILE.png|FILE.pfm [options]\n"
+    "  --path NAME        render path: scanline (CPU reference, default)\n"
+    "  --model NAME       scanline optical model: absorption (default), emission, max\n"
+    "  --scalar NAME      point field to render (default: the first)\n"
+    "  --tf FILE          transfer function JSON (default: a built-in blue-to-red ramp);\n"
+    "                     a normalized one is mapped onto the field's range\n"
+    "  --density K        multiply the transfer function's extinction by K (default 1)\n"
+    "  --camera SPEC      eye=x,y,z,target=x,y,z,up=x,y,z,fov=DEG (or ortho=HEIGHT), near=, far=\n"
+    "                     (default: the whole mesh from the +x+y+z diagonal)\n"
+    "  --near D           near-plane distance (overrides the camera's)\n"
+    "  --size WxH         image size (default 512x512)\n"
+    "  --background R,G,B background colour in [0,1] (default 0,0,0)\n"
+    "  --threads N        scan-line worker threads (default: all cores)";
+
+struct Frame {
+    fx::Image image;
+    std::vector<std::pair<std::string, double>> milliseconds; // stage → ms
+    std::vector<std::pair<std::string, double>> counts;       // statistic → value
+};
+
+struct RenderJob {
+    const fx::CellMesh* mesh;
+    const fx::ScalarField* field;
+    fx::TransferFunction tf;
+    fx::Camera camera;
+    int width, height;
+    fx::OpticalModel model;
+    unsigned threads;
+};
+
+Frame render_scanline(const RenderJob& job) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const fx::ScanlineRenderer renderer(*job.mesh);
+    const double setup_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    fx::ScanlineOptions options;
+    options.model = job.model;
+    options.threads = job.threads;
+    fx::ScanlineStats stats;
+    Frame frame;
+    frame.image = renderer.render(job.camera, job.width, job.height, *job.field, job.tf, options, &stats);
+    frame.milliseconds = {{"setup (triangles)", setup_ms},
+                          {"transform", 1e3 * stats.seconds_transform},
+                          {"y-buckets", 1e3 * stats.seconds_y_buckets},
+                          {"scan", 1e3 * stats.seconds_scan},
+                          {"frame", 1e3 * stats.seconds_total}};
+    frame.counts = {{"threads", double(stats.threads)},
+                    {"triangles", double(stats.triangles_total)},
+                    {"active triangles", double(stats.triangles_active)},
+                    {"near-plane caps", double(stats.cap_triangles)},
+                    {"crossings", double(stats.crossings)},
+                    {"memory MB", double(stats.memory.renderer_total()) / 1e6}};
+    return frame;
+}
+
+// The render paths this build offers, by --path name.
+const std::map<std::string, std::function<Frame(const RenderJob&)>>& render_paths() {
+    static const std::map<std::string, std::function<Frame(const RenderJob&)>> paths = {
+        {"scanline", render_scanline},
+    };
+    return paths;
+}
+
+fx::OpticalModel parse_model(const std::string& name) {
+    if (name == "absorption") return fx::OpticalModel::EmissionAbsorption;
+    if (name == "emission") return fx::OpticalModel::Emission;
+    if (name == "max") return fx::OpticalModel::Maximum;
+    throw fx::Error("--model: unknown optical model '" + name + "' (expected absorption, emission or max)");
+}
+
+fx::TransferFunction default_transfer_function() {
+    return fx::TransferFunction({{0.0, {0.10, 0.25, 0.90}, 0.02},
+                                 {0.5, {0.20, 0.90, 0.40}, 0.10},
+                                 {1.0, {1.00, 0.25, 0.10}, 0.40}},
+                                /*normalized=*/true);
+}
+
+fx::TransferFunction scale_extinction(const fx::TransferFunction& tf, double k) {
+    std::vector<fx::TransferPoint> points = tf.points();
+    for (fx::TransferPoint& p : points) p.sigma *= k;
+    return fx::TransferFunction(std::move(points), tf.normalized());
+}
+
+} // namespace
+
+int run_render(const std::vector<std::string>& args) {
+    const ParsedArgs parsed = parse_args(args, {"help"});
+    if (parsed.has("help")) {
+        std::puts(kUsage);
+        return 0;
+    }
+    require_known(parsed, {"path", "model", "scalar", "tf", "density", "camera", "near", "size", "background",
+                           "threads", "out"});
+    if (parsed.positional.empty() || parsed.positional.size() > 2) throw fx::Error("expected FILE [Q_FILE]\n" + std::string(kUsage));
+    const std::string out = parsed.get("out");
+    if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
+    const std::string path_name = parsed.get("path", "scanline");
+    const auto path = render_paths().find(path_name);
+    if (path == render_paths().end()) {
+        std::string names;
+        for (const auto& [name, fn] : render_paths()) names += (names.empty() ? "" : ", ") + name;
+        throw fx::Error("--path: unknown render path '" + path_name + "' (this build has: " + names + ")");
+    }
+
+    const auto t_load = std::chrono::steady_clock::now();
+    const fx::CellMesh mesh = fx::read_mesh(parsed.positional[0], parsed.positional.size() > 1 ? parsed.positional[1] : "");
+    const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_load).count();
+    if (mesh.cell_count() == 0) throw fx::Error(parsed.positional[0] + ": the mesh has no volume cells to render");
+    if (mesh.scalars.empty()) throw fx::Error(parsed.positional[0] + ": the mesh has no point scalar field to render");
+    const std::string scalar = parsed.get("scalar", mesh.scalars.front().name);
+    const fx::ScalarField* field = mesh.find_scalar(scalar);
+    if (!field) {
+        std::string names;
+        for (const fx::ScalarField& f : mesh.scalars) names += (names.empty() ? "" : ", ") + f.name;
+        throw fx::Error("--scalar: no field '" + scalar + "' (the mesh has: " + names + ")");
+    }
+
+    RenderJob job{&mesh, field, default_transfer_function(), {}, 512, 512, fx::OpticalModel::EmissionAbsorption, 0};
+    if (parsed.has("tf")) job.tf = fx::TransferFunction::read_json(parsed.get("tf"));
+    if (job.tf.normalized()) {
+        const fx::ScalarRange r = fx::scalar_range(*field);
+        job.tf = job.tf.rescaled(r.lo, r.hi);
+    }
+    if (parsed.has("density")) {
+        const double k = parse_double(parsed.get("density"), "--density");
+        if (k < 0.0) throw fx::Error("--density must not be negative");
+        job.tf = scale_extinction(job.tf, k);
+    }
+    const fx::Bounds bounds = fx::mesh_bounds(mesh);
+    job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);
+    if (parsed.has("near")) {
+        job.camera.near_distance = parse_double(parsed.get("near"), "--near");
+        if (!(job.camera.near_distance > 0.0)) throw fx::Error("--near must be positive");
+    }
+    if (parsed.has("size")) parse_size(parsed.get("size"), job.width, job.height);
+    if (parsed.has("model")) job.model = parse_model(parsed.get("model"));
+    if (parsed.has("threads")) {
+        const int threads = parse_int(parsed.get("threads"), "--threads");
+        if (threads < 1 || threads > 256) throw fx::Error("--threads must be in 1..256");
+        job.threads = static_cast<unsigned>(threads);
+    }
+    const glm::dvec3 background = parsed.has("background") ? parse_vec3(parsed.get("background"), "--background") : glm::dvec3(0.0);
+
+    Frame frame = path->second(job);
+    fx::composite_over(frame.image, glm::vec3(background));
+    fx::write_image(frame.image, out);
+
+    std::printf("wrote %s (%dx%d, path %s, scalar %s)\n", out.c_str(), job.width, job.height, path_name.c_str(),
+                scalar.c_str());
+    std::printf("  %-20s %10.2f ms\n", "load mesh", load_ms);
+    for (const auto& [stage, ms] : frame.milliseconds) std::printf("  %-20s %10.2f ms\n", stage.c_str(), ms);
+    for (const auto& [name, value] : frame.counts) std::printf("  %-20s %10.6g\n", name.c_str(), value);
+    return 0;
+}
+
+} // namespace cellfx_cli

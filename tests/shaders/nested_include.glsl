@@ -1,0 +1,2 @@
+// Includes the broken file from inside an include.
+#include "broken_include.glsl"
