@@ -1,0 +1,106 @@
+// cellfx — GPU cell projection: the PCP, PCP-exact and MIP render paths on OpenGL 4.5.
+//
+// Based on: Roettger & Ertl 2003, §2 (MIP), §3 (PCP) and §5 (near-plane caps).
+//
+//   pcp        classic, as in the paper: per batch of cells with disjoint screen footprints,
+//              back faces → alpha (d − d_min)/Δd, front faces and near-plane caps subtracted,
+//              then colour κ(S)·Δd/2 blended with glBlendFunc(GL_DST_ALPHA, GL_ONE), into an
+//              8-bit RGBA target. Emission only; κ·Δd/2 per cell and the sum per pixel must stay
+//              ≤ 1 (8-bit, clamped). Per frame the CPU projects the mesh, builds caps and batches.
+//   pcp-exact  one draw per mesh into a float target: each back-face fragment intersects its ray
+//              with the cell's planes, integrates the linear scalar through the transfer
+//              function's cumulative table exactly; near plane clamps the entry. With
+//              `fog = true` it also accumulates optical depth and composites
+//              bg·e^(−τ) + c·(1 − e^(−τ)) once — exact absorption for a one-colour medium,
+//              no sort. Nothing per frame on the CPU.
+//   mip        one draw: all faces with GL_MAX, emission c·σ at the face's scalar, plus caps.
+//
+// STEP BY STEP (a game loop):
+//     fx::CellRenderer fog(mesh, "density", tf);        // once, context current: uploads
+//     while (running) {
+//         ... draw the scene into your framebuffer ...
+//         fog.render(camera, {0, 0, w, h}, fx::RenderPath::PcpExact, {/*fog=*/true});
+//     }
+// render() draws into the framebuffer bound to GL_DRAW_FRAMEBUFFER at the call, inside the
+// given viewport, over its contents (premultiplied "over"; the emission paths add light). It
+// saves and restores every GL state it changes (gl::StateGuard). Nothing is depth-tested
+// against the scene.
+//
+// Ownership: owns its GL buffers, textures, programs and internal render targets (move-only;
+// destroy it while its context is current). Preconditions: a GL 4.5 core context current on
+// the calling thread for every call; the mesh valid (validate_mesh) with convex cells.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "fx/camera.hpp"
+#include "fx/cell_mesh.hpp"
+#include "fx/image.hpp"
+#include "fx/transfer_function.hpp"
+
+namespace fx {
+
+enum class RenderPath { Pcp, PcpExact, Mip };
+const char* render_path_name(RenderPath path); // "pcp", "pcp-exact", "mip"
+// Parses "pcp", "pcp-exact" or "mip"; false for anything else.
+bool parse_render_path(std::string_view name, RenderPath& path);
+
+struct Viewport {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+
+struct CellRenderOptions {
+    // pcp-exact only: accumulate optical depth too and composite e^(−τ) over the background.
+    bool fog = false;
+    // Measure the frame's GPU time with a GL_TIME_ELAPSED query (waits for the result). Not
+    // while the host has a GL_TIME_ELAPSED query of its own active (GL allows one at a time).
+    bool timing = false;
+    // Classic pcp: tile size in pixels for the footprint batching (see footprint_batches.hpp).
+    int batch_tile = 4;
+};
+
+struct CellRenderStats {
+    double gpu_ms = -1.0;         // GL_TIME_ELAPSED of all GL work of the frame; −1 if not timed
+    double cpu_ms = 0.0;          // CPU work of the frame (projection, caps, batches, uploads)
+    std::size_t cells = 0;        // cells in the mesh
+    std::size_t cells_drawn = 0;  // classic: cells in some batch (culled ones left out)
+    std::size_t caps = 0;         // near-plane cap polygons drawn
+    std::size_t batches = 0;      // classic: footprint batches
+    std::size_t draw_calls = 0;
+};
+
+class CellRenderer {
+public:
+    // Uploads the mesh (positions relative to its centre as floats, face triangles and planes)
+    // and the transfer-function tables. `scalar_name` picks the field ("" = the first one; a
+    // mesh without fields renders with scalar 0). Throws fx::Error for an unknown field, bad
+    // geometry (non-finite values), or a GL failure (shader errors with file:line).
+    CellRenderer(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf);
+    ~CellRenderer();
+    CellRenderer(CellRenderer&&) noexcept;
+    CellRenderer& operator=(CellRenderer&&) noexcept;
+    CellRenderer(const CellRenderer&) = delete;
+    CellRenderer& operator=(const CellRenderer&) = delete;
+
+    // Rebuilds the tables (normalized functions are rescaled to the field's range).
+    void set_transfer_function(const TransferFunction& tf);
+
+    CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
+                           const CellRenderOptions& options = {});
+    // Renders into a new RGBA32F target cleared to 0 and reads it back: premultiplied, bottom
+    // row first; emission paths give (light, 0), fog gives (c·(1 − e^(−τ)), 1 − e^(−τ)).
+    Image render_to_image(const Camera& camera, int width, int height, RenderPath path,
+                          const CellRenderOptions& options = {}, CellRenderStats* stats = nullptr);
+
+    std::size_t cell_count() const;
+    std::size_t gpu_bytes() const; // mesh buffers + tables
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace fx

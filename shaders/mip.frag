@@ -1,0 +1,14 @@
+#version 450 core
+// Based on: Roettger & Ertl 2003, §2 and §5 — maximum intensity projection: every face (and
+// every near-plane cap) in any order with GL_MAX blending, one pass, no sort. With the scalar
+// linear inside a cell, a segment's maximum emission is on its entry or exit face whenever
+// c·σ is monotonic between the two scalars (see docs/render_paths.md for the exception).
+#include "project.glsl"
+
+layout(location = 1) in float v_scalar;
+
+layout(location = 0) out vec4 o_color;
+
+void main() {
+    o_color = vec4(emission_at(v_scalar).rgb, 0.0);
+}

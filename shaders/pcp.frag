@@ -1,0 +1,30 @@
+#version 450 core
+// Based on: Roettger & Ertl 2003, §3 and §5 — classic PCP, three passes per batch of cells
+// (fx/src/projector/cell_renderer.cpp sets blending and colour masks per pass):
+//   pass 1  back faces  → alpha = (d − d_min)/Δd          (blend off, alpha only)
+//   pass 2  front faces → alpha −= (d − d_min)/Δd          (reverse subtract, alpha only)
+//           caps        → alpha −= (d_near − d_min)/Δd     (same, drawn after the front faces)
+//   pass 3  all faces and caps → rgb += κ(S)·Δd/2 · dst alpha (glBlendFunc(GL_DST_ALPHA, GL_ONE))
+// into an 8-bit RGBA target: the quantisation is the point of this path.
+// One addition to the paper: α·Δd is a difference of view depths; under perspective the ray
+// through this pixel covers it over a length α·Δd / cos θ, so pass 3 divides by cos θ of the
+// pixel's ray (1 for orthographic cameras). Without it the corners of a 40° view come out
+// ~12% too dark, an error that would swamp the 8-bit one this path is kept to show.
+#include "project.glsl"
+
+layout(location = 0) in vec3 v_position;
+layout(location = 3) in float v_alpha;
+layout(location = 4) in vec3 v_color;
+
+layout(location = 8) uniform int u_pass;
+
+layout(location = 0) out vec4 o_color;
+
+void main() {
+    if (u_pass == 3) {
+        float cos_theta = u_orthographic != 0 ? 1.0 : max(dot(normalize(v_position - u_eye), u_forward), 1e-3);
+        o_color = vec4(v_color / cos_theta, 0.0);
+    } else {
+        o_color = vec4(0.0, 0.0, 0.0, v_alpha);
+    }
+}
