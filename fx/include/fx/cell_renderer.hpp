@@ -14,6 +14,15 @@
 //              bg·e^(−τ) + c·(1 − e^(−τ)) once — exact absorption for a one-colour medium,
 //              no sort. Nothing per frame on the CPU.
 //   mip        one draw: all faces with GL_MAX, emission c·σ at the face's scalar, plus caps.
+//   absorption        emission and absorption (Max, Williams & Silva 2000, §II–§V), cells
+//              sorted back to front (CellRenderOptions::sort) and composited with "over":
+//              per cell the projected subdivision built on the CPU, opacity through a 2-D
+//              texture of 1 − exp(−u·v), colour computed at the vertices and divided by α;
+//              cells at transfer-function breakpoints sliced (§V). CPU work per frame.
+//   absorption-exact  the same order, one draw: per fragment entry/exit through the cell's
+//              planes and a pre-integration table over (s_front, s_back, length), float target.
+//              Both cut the cells with problem faces (§V) into tetrahedra for the view.
+//              docs/absorption.md: tolerances, limits, timings.
 //
 // STEP BY STEP (a game loop):
 //     fx::CellRenderer fog(mesh, "density", tf);        // once, context current: uploads
@@ -40,12 +49,14 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
 #include "fx/transfer_function.hpp"
+#include "fx/visibility_sort.hpp"
 
 namespace fx {
 
-enum class RenderPath { Pcp, PcpExact, Mip };
-const char* render_path_name(RenderPath path); // "pcp", "pcp-exact", "mip"
-// Parses "pcp", "pcp-exact" or "mip"; false for anything else.
+enum class RenderPath { Pcp, PcpExact, Mip, Absorption, AbsorptionExact };
+// "pcp", "pcp-exact", "mip", "absorption", "absorption-exact"
+const char* render_path_name(RenderPath path);
+// Parses a name given by render_path_name(); false for anything else.
 bool parse_render_path(std::string_view name, RenderPath& path);
 
 struct Viewport {
@@ -60,6 +71,12 @@ struct CellRenderOptions {
     bool timing = false;
     // Classic pcp: tile size in pixels for the footprint batching (see footprint_batches.hpp).
     int batch_tile = 4;
+    // Absorption paths: the visibility sort (its per-mesh state is built on first use of each
+    // method, and again when the view-dependent subdivision changes the cells).
+    SortMethod sort = SortMethod::Centroid;
+    // Classic absorption: cut cells at the transfer function's breakpoints (§V) so that colour
+    // and extinction are linear inside every piece; off shows §II's projection alone.
+    bool slice_breakpoints = true;
 };
 
 struct CellRenderStats {
@@ -70,6 +87,15 @@ struct CellRenderStats {
     std::size_t caps = 0;         // near-plane cap polygons drawn
     std::size_t batches = 0;      // classic: footprint batches
     std::size_t draw_calls = 0;
+    // Absorption paths (CPU work, done before the GPU work and included in cpu_ms):
+    double setup_ms = 0.0;         // one-time work done in this frame (a sort's per-mesh state)
+    double subdivision_ms = 0.0;   // problem faces and the working mesh (§V)
+    double sort_ms = 0.0;          // visibility sort for this view
+    double projection_ms = 0.0;    // classic: projected subdivisions and vertex colours; exact: items
+    std::size_t problem_cells = 0; // cells cut into tetrahedra for this view (§V)
+    std::size_t sort_cycles = 0;   // visibility cycles the sort found and broke
+    std::size_t pieces = 0;        // classic: convex pieces projected (cells, tetrahedra, slabs)
+    std::size_t polygons = 0;      // classic: polygons of their projected subdivisions
 };
 
 class CellRenderer {
@@ -91,7 +117,8 @@ public:
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});
     // Renders into a new RGBA32F target cleared to 0 and reads it back: premultiplied, bottom
-    // row first; emission paths give (light, 0), fog gives (c·(1 − e^(−τ)), 1 − e^(−τ)).
+    // row first; emission paths give (light, 0), fog gives (c·(1 − e^(−τ)), 1 − e^(−τ)), the
+    // absorption paths premultiplied colour and alpha.
     Image render_to_image(const Camera& camera, int width, int height, RenderPath path,
                           const CellRenderOptions& options = {}, CellRenderStats* stats = nullptr);
 
