@@ -96,7 +96,9 @@ inline fx::CellMesh delaunay_ball(int count, unsigned seed = 7) {
 inline fx::CellMesh c_shape(std::uint32_t n_angle = 18, std::uint32_t n_radius = 3, std::uint32_t n_height = 3) {
     fx::CellMesh mesh;
     fx::append_curvilinear_block(mesh, "c", {n_angle + 1, n_radius + 1, n_height + 1}, [](double u, double v, double w) {
-        const double a = glm::radians(-135.0 + 270.0 * u), r = 1.0 + 0.8 * v;
+        // Angle falling with u, radius growing with v, height with w: a right-handed map, so
+        // the cells are positively oriented.
+        const double a = glm::radians(135.0 - 270.0 * u), r = 1.0 + 0.8 * v;
         return glm::dvec3(r * std::cos(a), r * std::sin(a), 0.8 * w);
     });
     fx::set_scalar_field(mesh, "s", [](const glm::dvec3& p) { return 0.5 + 0.3 * std::sin(2.0 * p.x) + 0.4 * p.z; });

@@ -270,7 +270,10 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
     double l_max = 0.0, tau_max = 0.0;
     tau_.clear();
     for (std::size_t i = 0; i < nv; ++i) {
-        const SubdivisionVertex& sv = subdivision_.vertices[i];
+        // The piece's scalar lies in [lo, hi] by construction; interpolation may round past
+        // an end, which at a step would pick the other side's value.
+        SubdivisionVertex sv = subdivision_.vertices[i];
+        sv.s_front = std::clamp(sv.s_front, lo, hi), sv.s_back = std::clamp(sv.s_back, lo, hi);
         const Sample f = sample(sv.s_front, lo, hi), b = sample(sv.s_back, lo, hi);
         const double tau_mean = 0.5 * (f.sigma + b.sigma);
         glm::dvec3 color(0.0);

@@ -8,11 +8,13 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <string>
 #include <thread>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "fx/error.hpp"
+#include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/shader_library.hpp"
@@ -53,7 +55,9 @@ constexpr std::size_t kCellsPerThread = 4096;
 
 AbsorptionPass::AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& geometry)
     : mesh_(mesh), geometry_(geometry), subdivision_(mesh) {
-    // The longest chord of a convex cell is at most its bounding-box diagonal.
+    // The longest chord of a convex cell is at most its bounding-box diagonal. Faces must wind
+    // outward: front and back, entry and exit are told apart by it, and an inverted cell would
+    // be drawn inside out rather than rejected.
     double longest = 0.0;
     for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
         const std::uint32_t* cv = mesh.cell_vertices(c);
@@ -62,7 +66,11 @@ AbsorptionPass::AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& ge
             const glm::dvec3 p(geometry.positions[cv[i]]);
             lo = glm::min(lo, p), hi = glm::max(hi, p);
         }
-        longest = std::max(longest, glm::length(hi - lo));
+        const double diagonal = glm::length(hi - lo);
+        longest = std::max(longest, diagonal);
+        if (cell_signed_volume(mesh, c) < -1e-9 * diagonal * diagonal * diagonal)
+            throw Error("absorption: cell " + std::to_string(c) + " (" + cell_type_name(mesh.cell_types[c]) +
+                        ") is inverted: its faces wind inward (fx::orient_cells fixes the mesh)");
     }
     max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
 
