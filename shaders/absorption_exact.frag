@@ -2,9 +2,8 @@
 // Based on: Max, Williams & Silva 2000, §II (the volume density model, composited back to
 // front with "over") made exact per fragment. Drawn on the BACK faces of every item (front
 // faces culled), items in visibility order: each fragment is where its ray leaves the cell.
-// The entry is the last front-facing plane the ray crosses (a triangle that contains its hit
-// point beats one that does not, for the two triangles of a quad and slightly curved cells),
-// clamped to the near plane — so a camera inside the mesh composites only what lies ahead.
+// The entry is the last front-facing plane the ray crosses (checked against its triangle, for
+// the two triangles of a quad and slightly curved cells), clamped to the near plane — so a camera inside the mesh composites only what lies ahead.
 // The scalar is face-linear at both ends (barycentric on the entry triangle, interpolated on
 // the exit one) and linear along the ray; colour and opacity of the segment come from the
 // pre-integration table over (s_front, s_back, length) built by fx::build_preintegration_table
@@ -51,32 +50,45 @@ void main() {
     float t_exit = dot(v_position - ray.origin, ray.dir);
     float s_exit = v_scalar;
 
+    // Entry: for a convex cell, the last front-facing plane the ray crosses (Cyrus–Beck: one
+    // dot product per triangle). The two triangles of a planar quad tie; a curved cell can make
+    // the last plane one whose triangle the ray misses. So the winner's hit point must lie in
+    // its triangle; if it does not, all candidates are searched by containment (a triangle that
+    // contains its hit point beats one that does not, then the larger parameter wins).
     const float kInside = -1e-4; // barycentric slack for hits on shared edges
-    float t_front = -3.4e38;
-    bool front_inside = false, found = false;
-    vec3 best_bary = vec3(1.0, 0.0, 0.0);
-    uvec3 best = uvec3(0u);
     int n = item_triangle_count(v_item);
+    float t_front = -3.4e38;
+    int front = -1;
     for (int k = 0; k < n; ++k) {
-        ItemTriangle tri = item_triangle(v_item, k);
-        float denom = dot(tri.plane.xyz, ray.dir);
+        vec4 plane = item_triangle(v_item, k).plane;
+        float denom = dot(plane.xyz, ray.dir);
         if (denom >= -1e-6) continue; // back-facing for this ray, or grazing: cannot bound it
-        float tt = (tri.plane.w - dot(tri.plane.xyz, ray.origin)) / denom;
-        vec3 q = ray.origin + ray.dir * tt;
-        vec3 bary = barycentric(points[tri.v.x].xyz, points[tri.v.y].xyz, points[tri.v.z].xyz, q);
-        bool inside = min(bary.x, min(bary.y, bary.z)) >= kInside;
-        if ((inside && !front_inside) || (inside == front_inside && tt > t_front)) {
-            t_front = tt;
-            front_inside = inside;
-            best_bary = bary;
-            best = tri.v;
-            found = true;
-        }
+        float tt = (plane.w - dot(plane.xyz, ray.origin)) / denom;
+        if (tt > t_front) t_front = tt, front = k;
     }
     float s_front = s_exit;
-    if (found) {
+    if (front >= 0) {
+        ItemTriangle tri = item_triangle(v_item, front);
+        vec3 bary = barycentric(points[tri.v.x].xyz, points[tri.v.y].xyz, points[tri.v.z].xyz,
+                                ray.origin + ray.dir * t_front);
+        uvec3 best = tri.v;
+        if (min(bary.x, min(bary.y, bary.z)) < kInside) {
+            bool front_inside = false;
+            t_front = -3.4e38;
+            for (int k = 0; k < n; ++k) {
+                ItemTriangle c = item_triangle(v_item, k);
+                float denom = dot(c.plane.xyz, ray.dir);
+                if (denom >= -1e-6) continue;
+                float tt = (c.plane.w - dot(c.plane.xyz, ray.origin)) / denom;
+                vec3 b = barycentric(points[c.v.x].xyz, points[c.v.y].xyz, points[c.v.z].xyz, ray.origin + ray.dir * tt);
+                bool inside = min(b.x, min(b.y, b.z)) >= kInside;
+                if ((inside && !front_inside) || (inside == front_inside && tt > t_front)) {
+                    t_front = tt, front_inside = inside, bary = b, best = c.v;
+                }
+            }
+        }
         t_front = min(t_front, t_exit);
-        vec3 bary = max(best_bary, vec3(0.0)); // the entry can stray outside by rounding
+        bary = max(bary, vec3(0.0)); // the entry can stray outside by rounding
         bary /= max(bary.x + bary.y + bary.z, 1e-20);
         s_front = dot(bary, vec3(points[best.x].w, points[best.y].w, points[best.z].w));
     } else {

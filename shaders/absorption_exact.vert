@@ -24,7 +24,7 @@ void main() {
         gl_Position = vec4(0.0, 0.0, 2.0, 1.0); // beyond the far plane: clipped
         return;
     }
-    vec4 p = points[item_triangle(item, k).v[corner]];
+    vec4 p = points[item_triangle_points(item, k)[corner]];
     gl_Position = u_view_projection * vec4(p.xyz, 1.0);
     v_position = p.xyz;
     v_scalar = p.w;

@@ -9,6 +9,13 @@ int item_triangle_count(uvec4 item) {
     return item.y == kWholeCell ? int(cell_first_triangle[item.x + 1u] - cell_first_triangle[item.x]) : 4;
 }
 
+// Point ids of triangle k, counter-clockwise seen from outside (no plane: for the vertex stage).
+uvec3 item_triangle_points(uvec4 item, int k) {
+    if (item.y == kWholeCell) return triangles[cell_first_triangle[item.x] + uint(k)].v.xyz;
+    ivec3 f = kTetraFaces[k];
+    return uvec3(item[f.x], item[f.y], item[f.z]);
+}
+
 struct ItemTriangle {
     uvec3 v;    // point ids, counter-clockwise seen from outside
     vec4 plane; // outward unit normal, w = n·p; zero for a zero-area triangle

@@ -13,13 +13,15 @@
 //     cell's colour where the transfer function bends inside a table cell or a cell is much
 //     shorter than one length step), float32 against double, and pixel centres within
 //     rounding of a silhouette, which the rasteriser and the reference may assign differently
-//     (at most 1% of pixels). Per pixel 1.5% of peak, mean 0.1% of peak.
+//     (at most 1% of pixels). Measured at most 0.2% of peak away from silhouettes: per pixel
+//     1.5% of peak, mean 0.1% of peak.
 //   absorption (classic) — §II's approximations: thickness and the texture coordinates linear
 //     on screen over each polygon (exact for orthographic views, off by the cell's perspective
 //     foreshortening otherwise) and the polygon colour C/α interpolated linearly between
 //     vertices where colour and extinction vary across the cell. Exact along vertex rays
-//     (slices make colour and extinction linear there). Per pixel 6% of peak, mean 0.6%,
-//     beyond-tolerance pixels at most 1%: measured values are printed (WARN) for comparison.
+//     (slices make colour and extinction linear there). Measured at most 2.8% of peak per
+//     pixel and 0.3% mean (camera inside): per pixel 4%, mean 0.4%, beyond-tolerance pixels
+//     at most 1%. Measured values are printed (WARN) for comparison.
 //   Camera inside (near plane cuts cells) and non-planar cells: modelling differences, stated
 //     at each test.
 #include <catch2/catch.hpp>
@@ -48,7 +50,7 @@ struct Tolerance {
 };
 
 Tolerance exact_tolerance() { return {0.015f, 0.001, 0.01, 0.0}; }
-Tolerance classic_tolerance() { return {0.06f, 0.006, 0.01, 0.0}; }
+Tolerance classic_tolerance() { return {0.04f, 0.004, 0.01, 0.0}; }
 
 struct Result {
     float peak = 0.0f;
@@ -279,7 +281,7 @@ TEST_CASE("absorption vs scan-line: camera inside the mesh, near plane cutting c
         // are face-linear on the cell's boundary and differ inside by up to the scalar's
         // variation over the cell (pixels whose ray starts inside a cut cell only).
         Tolerance tol = tolerance_of(path);
-        tol.pixel = 0.06f, tol.mean = std::max(tol.mean, 0.004);
+        tol.pixel += 0.02f, tol.mean += 0.001;
         const Result r = compare("inside", mesh, "s", glow(1.0), cam, path, 64, tol);
         if (path == fx::RenderPath::Absorption) CHECK(r.stats.cells_drawn < mesh.cell_count()); // behind: skipped
     }
@@ -304,7 +306,7 @@ TEST_CASE("absorption vs scan-line: a transfer function with sharp steps (step.j
         // ray between the cell's faces; near the iso-surfaces of the steps, where the medium
         // jumps by a factor of 100, that moves the jump by a fraction of a cell.
         Tolerance classic = classic_tolerance();
-        classic.pixel = 0.12f, classic.mean = 0.01, classic.beyond = 0.05;
+        classic.pixel = 0.12f, classic.mean = 0.002, classic.beyond = 0.02;
         const Result sliced = compare("step_hex", mesh, "s", step, cam, fx::RenderPath::Absorption, 64, classic);
         CHECK(sliced.stats.pieces > mesh.cell_count());
         // Unsliced (§II alone): τ and colour interpolated across a step — far off. Slicing must
@@ -313,7 +315,7 @@ TEST_CASE("absorption vs scan-line: a transfer function with sharp steps (step.j
         unsliced.slice_breakpoints = false;
         Tolerance loose{1.0f, 1.0, 1.0, 0.0};
         const Result whole = compare("step_hex_unsliced", mesh, "s", step, cam, fx::RenderPath::Absorption, 64, loose, unsliced);
-        CHECK(whole.mean_delta > 2.0 * sliced.mean_delta);
+        CHECK(whole.mean_delta > 5.0 * sliced.mean_delta);
     }
     SECTION("tetrahedra") {
         // The same field on consistent tetrahedra: now slicing is exact inside every piece.

@@ -431,10 +431,10 @@ TEST_CASE("classic flavour's CPU half, rasterised in software, against the scan-
     const fx::Image actual = absorption_test::rasterize_classic(g, fx::build_opacity_table(1024, 12.0), size, size);
     fx::ScanlineOptions so;
     const fx::Image expected = fx::ScanlineRenderer(mesh).render(cam, size, size, mesh.scalars[0], tf, so);
-    // Compare where the order is right: colour and τ linear along vertex rays inside each cell
-    // make the vertex values exact; between vertices the polygon colour C/α is interpolated
-    // linearly (§II's approximation), off by up to a few % of a cell's light where colour and
-    // extinction vary strongly across the cell. Per pixel 3%, mean 0.5% of peak.
+    // Orthographic, slices at every breakpoint: thickness, τ_a and so α are exact over each
+    // polygon (linear on screen); what is left is the polygon colour C/α interpolated linearly
+    // between exact vertex values (§II's approximation) and the opacity table's bilinear error
+    // (< 4e-5). Measured 0.15% of peak at worst: per pixel 0.5%, mean 0.02% of peak.
     float peak = 0.0f;
     for (const glm::vec4& p : expected.pixels) peak = std::max({peak, p.r, p.g, p.b, p.a});
     double sum = 0.0, worst = 0.0;
@@ -452,7 +452,8 @@ TEST_CASE("classic flavour's CPU half, rasterised in software, against the scan-
                                                   << ", max delta " << worst / peak * 100 << "% of peak, mean "
                                                   << mean / peak * 100 << "%, pieces " << g.pieces);
     CHECK(check.pixels_wrong == 0);
-    if (!(worst <= 0.03 * peak && mean <= 0.005 * peak)) fx_test::write_failure_images("classic_cpu", actual, expected, 10.0f);
-    CHECK(worst <= 0.03 * peak);
-    CHECK(mean <= 0.005 * peak);
+    if (!(worst <= 0.005 * peak && mean <= 0.0002 * peak))
+        fx_test::write_failure_images("classic_cpu", actual, expected, 10.0f);
+    CHECK(worst <= 0.005 * peak);
+    CHECK(mean <= 0.0002 * peak);
 }

@@ -12,12 +12,16 @@ int run_bench(const std::vector<std::string>& args) {
     if (args.empty() || args[0] == "--help") {
         std::puts("usage: cellfx bench NAME [options]\n"
                   "  scanline   CPU scan-line renderer on a synthetic nine-grid data set (Wilhelms et al. Table 3)\n"
-                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)");
+                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)\n"
+                  "  absorption absorption / absorption-exact paths for every sort: blunt fin, ~1M tetrahedra, SPX\n"
+                  "             options: --size WxH (256x256), --frames N (5), --cells N (1000000), --sort A,B,\n"
+                  "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "scanline") return bench_scanline(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline)");
+    if (args[0] == "absorption") return bench_absorption(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, absorption)");
 }
 
 } // namespace cellfx_cli

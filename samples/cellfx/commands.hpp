@@ -17,5 +17,7 @@ namespace cellfx_cli {
 
 // `cellfx bench scanline`: the synthetic nine-grid data set of Wilhelms et al. Table 3.
 int bench_scanline(const std::vector<std::string>& args);
+// `cellfx bench absorption`: the absorption paths for every sort (Max, Williams & Silva 2000).
+int bench_absorption(const std::vector<std::string>& args);
 
 } // namespace cellfx_cli
