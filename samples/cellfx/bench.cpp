@@ -12,12 +12,15 @@ int run_bench(const std::vector<std::string>& args) {
     if (args.empty() || args[0] == "--help") {
         std::puts("usage: cellfx bench NAME [options]\n"
                   "  scanline   CPU scan-line renderer on a synthetic nine-grid data set (Wilhelms et al. Table 3)\n"
-                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)");
+                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)\n"
+                  "  pcp        GPU cell projection (pcp, pcp-exact, mip) on the blunt fin and a hex grid\n"
+                  "             options: --sizes 512,1024, --repeat N (5), --grid N (100: 1M cells), --mesh XYZ --q Q");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "scanline") return bench_scanline(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline)");
+    if (args[0] == "pcp") return bench_pcp(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline or pcp)");
 }
 
 } // namespace cellfx_cli

@@ -17,5 +17,7 @@ namespace cellfx_cli {
 
 // `cellfx bench scanline`: the synthetic nine-grid data set of Wilhelms et al. Table 3.
 int bench_scanline(const std::vector<std::string>& args);
+// `cellfx bench pcp`: cells per second of the GPU cell-projection paths (Roettger & Ertl §4).
+int bench_pcp(const std::vector<std::string>& args);
 
 } // namespace cellfx_cli
