@@ -133,7 +133,7 @@ int bench_absorption(const std::vector<std::string>& args) {
     const int frames = parse_int(parsed.get("frames", "5"), "--frames");
     if (frames < 1) throw fx::Error("bench absorption: --frames must be at least 1");
     const int target_cells = parse_int(parsed.get("cells", "1000000"), "--cells");
-    const std::string blunt = parsed.get("blunt-fin", std::string(CELLFX_CONTENT_DIR) + "/meshes/blunt_fin");
+    const std::string blunt = parsed.get("blunt-fin", std::string(CELLFX_SOURCE_DIR) + "/content/meshes/blunt_fin");
     const std::string spx = parsed.get("spx", std::string(CELLFX_SHARED_DATA) + "/spx/spx.inp");
     const std::string scenes = parsed.get("scenes", "spx,blunt-fin,box");
     std::vector<fx::SortMethod> sorts = all_sorts();

@@ -54,6 +54,9 @@
 namespace fx {
 
 enum class RenderPath { Pcp, PcpExact, Mip, Absorption, AbsorptionExact };
+// Every path, in the order tools list them (the CLI offers each under render_path_name()).
+inline constexpr RenderPath kRenderPaths[] = {RenderPath::Pcp, RenderPath::PcpExact, RenderPath::Mip,
+                                              RenderPath::Absorption, RenderPath::AbsorptionExact};
 // "pcp", "pcp-exact", "mip", "absorption", "absorption-exact"
 const char* render_path_name(RenderPath path);
 // Parses a name given by render_path_name(); false for anything else.
