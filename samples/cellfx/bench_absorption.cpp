@@ -79,9 +79,10 @@ fx::CellMesh tetrahedral_box(int n) {
     return fx::tetrahedralize(hexes);
 }
 
-// Extinction per world unit for a mesh `size` across: optical depth of a few through it.
+// Extinction per world unit for a mesh `size` across: an optical depth of up to ~10 through
+// it, dense enough that a wrong order shows in the error.
 fx::TransferFunction glow(double size) {
-    const double k = 3.0 / size;
+    const double k = 5.0 / size;
     return fx::TransferFunction({{0.0, {0.10, 0.25, 0.90}, 0.2 * k},
                                  {0.5, {0.20, 0.90, 0.40}, 0.8 * k},
                                  {1.0, {1.00, 0.25, 0.10}, 2.0 * k}},
