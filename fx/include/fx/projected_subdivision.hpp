@@ -116,7 +116,13 @@ private:
     std::uint32_t add_profile_vertex(std::uint32_t i, ProjectedSubdivision& out);
 
     std::vector<Projected> points_;
-    std::vector<std::uint32_t> front_, back_;           // triangle indices by side
+    struct ScreenTriangle {
+        std::uint32_t v[3];            // counter-clockwise on screen
+        glm::dvec2 lo, hi;             // screen box
+        glm::dvec2 origin[3], dir[3];  // edge e from v[e] to v[e + 1]
+        double inv_length[3];
+    };
+    std::vector<ScreenTriangle> front_, back_;
     std::vector<glm::dvec2> polygon_, clipped_;        // Sutherland–Hodgman scratch
     std::size_t first_vertex_ = 0;                     // first vertex of the current cell in out
 };

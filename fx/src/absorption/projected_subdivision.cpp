@@ -196,33 +196,36 @@ void SubdivisionBuilder::polyhedron(const ProjectionFrame& frame, const ConvexPo
     if (!(extent > 0.0)) return;
     const double line_tol = kLineTolerance * extent, area_tol = kAreaTolerance * extent * extent;
 
-    // Front triangles (counter-clockwise on screen) and back ones; edge-on ones bound nothing.
+    // Front triangles (counter-clockwise on screen) and back ones, reversed to counter-clockwise,
+    // with their screen boxes and (back) clip lines; edge-on ones bound nothing.
     front_.clear(), back_.clear();
     for (std::uint32_t t = 0; t < cell.triangles.size(); ++t) {
         const auto& tri = cell.triangles[t];
         const double a = 0.5 * cross2(points_[tri[1]].ndc - points_[tri[0]].ndc, points_[tri[2]].ndc - points_[tri[0]].ndc);
-        if (a > area_tol) front_.push_back(t);
-        else if (a < -area_tol) back_.push_back(t);
+        if (!(std::abs(a) > area_tol)) continue;
+        ScreenTriangle st;
+        st.v[0] = tri[0], st.v[1] = a > 0.0 ? tri[1] : tri[2], st.v[2] = a > 0.0 ? tri[2] : tri[1];
+        st.lo = glm::min(points_[st.v[0]].ndc, glm::min(points_[st.v[1]].ndc, points_[st.v[2]].ndc));
+        st.hi = glm::max(points_[st.v[0]].ndc, glm::max(points_[st.v[1]].ndc, points_[st.v[2]].ndc));
+        for (int e = 0; e < 3; ++e) {
+            st.origin[e] = points_[st.v[e]].ndc;
+            st.dir[e] = points_[st.v[(e + 1) % 3]].ndc - st.origin[e];
+            st.inv_length[e] = 1.0 / std::max(glm::length(st.dir[e]), 1e-300);
+        }
+        (a > 0.0 ? front_ : back_).push_back(st);
     }
     first_vertex_ = out.vertices.size();
 
-    for (std::uint32_t ft : front_) {
-        std::uint32_t f[3] = {cell.triangles[ft][0], cell.triangles[ft][1], cell.triangles[ft][2]};
-        glm::dvec2 flo = glm::min(points_[f[0]].ndc, glm::min(points_[f[1]].ndc, points_[f[2]].ndc));
-        glm::dvec2 fhi = glm::max(points_[f[0]].ndc, glm::max(points_[f[1]].ndc, points_[f[2]].ndc));
-        for (std::uint32_t bt : back_) {
-            // Counter-clockwise on screen: a back triangle reversed.
-            std::uint32_t b[3] = {cell.triangles[bt][0], cell.triangles[bt][2], cell.triangles[bt][1]};
-            const glm::dvec2 blo = glm::min(points_[b[0]].ndc, glm::min(points_[b[1]].ndc, points_[b[2]].ndc));
-            const glm::dvec2 bhi = glm::max(points_[b[0]].ndc, glm::max(points_[b[1]].ndc, points_[b[2]].ndc));
-            if (blo.x > fhi.x + line_tol || blo.y > fhi.y + line_tol || flo.x > bhi.x + line_tol ||
-                flo.y > bhi.y + line_tol)
+    for (ScreenTriangle& f : front_) {
+        for (ScreenTriangle& b : back_) {
+            if (b.lo.x > f.hi.x + line_tol || b.lo.y > f.hi.y + line_tol || f.lo.x > b.hi.x + line_tol ||
+                f.lo.y > b.hi.y + line_tol)
                 continue;
             // Sutherland–Hodgman: the front triangle clipped to the back triangle's half-planes.
-            polygon_.assign({points_[f[0]].ndc, points_[f[1]].ndc, points_[f[2]].ndc});
+            polygon_.assign({f.origin[0], f.origin[1], f.origin[2]});
             for (int e = 0; e < 3 && polygon_.size() >= 3; ++e) {
-                const glm::dvec2 a = points_[b[e]].ndc, dir = points_[b[(e + 1) % 3]].ndc - a;
-                const double inv_len = 1.0 / std::max(glm::length(dir), 1e-300);
+                const glm::dvec2 a = b.origin[e], dir = b.dir[e];
+                const double inv_len = b.inv_length[e];
                 clipped_.clear();
                 const std::size_t n = polygon_.size();
                 for (std::size_t i = 0; i < n; ++i) {
@@ -246,7 +249,7 @@ void SubdivisionBuilder::polyhedron(const ProjectionFrame& frame, const ConvexPo
                 if (std::max(std::abs(p.x - q.x), std::abs(p.y - q.y)) > line_tol) clipped_.push_back(p);
             }
             if (clipped_.size() < 3 || !(polygon_area(clipped_) > area_tol)) continue;
-            for (const glm::dvec2& p : clipped_) out.polygon_vertices.push_back(add_vertex(p, f, b, line_tol, out));
+            for (const glm::dvec2& p : clipped_) out.polygon_vertices.push_back(add_vertex(p, f.v, b.v, line_tol, out));
             out.polygon_start.push_back(static_cast<std::uint32_t>(out.polygon_vertices.size()));
         }
     }
