@@ -12,11 +12,15 @@ int run_bench(const std::vector<std::string>& args) {
     if (args.empty() || args[0] == "--help") {
         std::puts("usage: cellfx bench NAME [options]\n"
                   "  scanline   CPU scan-line renderer on a synthetic nine-grid data set (Wilhelms et al. Table 3)\n"
-                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)");
+                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)\n"
+                  "  sort       visibility sorts (centroid, mpvo, xmpvo, power) on ~1M tetrahedra\n"
+                  "             options: --cells N (1000000), --views N (8), --repeat N (3),\n"
+                  "                      --mesh all|grid|jittered|c-shape (all)");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "scanline") return bench_scanline(rest);
+    if (args[0] == "sort") return bench_sort(rest);
     throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline)");
 }
 

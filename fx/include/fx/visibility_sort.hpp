@@ -103,7 +103,7 @@ public:
     std::size_t memory_bytes() const;
     // Seconds the constructor spent building the per-mesh state.
     double setup_seconds() const { return setup_seconds_; }
-    // mpvo/xmpvo: boundary triangles (quads split by the smallest-vertex diagonal); else 0.
+    // xmpvo: boundary triangles (quads split by the smallest-vertex diagonal); else 0.
     std::size_t boundary_triangle_count() const;
 
 private:

@@ -11,11 +11,12 @@
 //
 // Finding the pairs per view: every boundary triangle facing away from the eye (g) or towards
 // it (f) is clipped to the near plane and projected. Projections are binned into a uniform
-// grid of tiles sized from the median projection; each (g, f) pair sharing a tile is tested
-// once (in the tile holding the low corner of their bounding-box overlap): bounding boxes,
-// then depth ranges, then the exact intersection of the two convex projections. If it has
-// positive area, the depths of both planes along the ray through its centroid decide. Two
-// boundary faces of a valid mesh do not cross, so one is in front over the whole overlap.
+// grid of tiles sized from the median projection (the few that cover many tiles are tested
+// against all others instead); each (g, f) pair sharing a tile is tested once: depth ranges
+// (lists in depth order, so the scan stops early), bounding boxes, then the exact
+// intersection of the two convex projections. If it has positive area, which side of each
+// other's plane the triangles lie on decides. Two boundary faces of a valid mesh do not
+// cross, so one is in front over the whole overlap.
 // Coincident faces (a quad against two triangles, non-manifold faces) count as g nearer: the
 // ray leaves B and enters A at the same point.
 #include "exterior_faces.hpp"
@@ -43,12 +44,9 @@ struct Projection {
     double lo_x, lo_y, hi_x, hi_y;
     double depth_lo, depth_hi; // view depth range of the clipped triangle
     double area;
-    glm::dvec3 n; // eye-space plane n·q = k, q = (x, y, depth)
-    double k;
-    glm::dvec3 world[3];      // the whole triangle, outward winding
-    glm::dvec3 world_normal;  // unit, outward
-    double size;              // longest edge
+    std::uint32_t triangle; // index into ExteriorFaces::triangles_
     std::uint32_t cell;
+    bool big; // covers too many tiles: tested outside the tiles
 };
 
 // Keeps the part of triangle q (eye space: x, y, depth) with depth ≥ near.
@@ -166,22 +164,93 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
         if (!(p.area > 0.0) || !std::isfinite(p.area)) continue;
         p.lo_x = *std::min_element(p.x, p.x + count), p.hi_x = *std::max_element(p.x, p.x + count);
         p.lo_y = *std::min_element(p.y, p.y + count), p.hi_y = *std::max_element(p.y, p.y + count);
-        p.n = glm::cross(q[1] - q[0], q[2] - q[0]);
-        p.k = glm::dot(p.n, q[0]);
-        for (int i = 0; i < 3; ++i) p.world[i] = mesh_.points[tri.v[i]];
-        p.world_normal = glm::normalize(normal);
-        p.size = std::max({glm::length(p.world[1] - p.world[0]), glm::length(p.world[2] - p.world[1]),
-                           glm::length(p.world[0] - p.world[2])});
+        p.triangle = static_cast<std::uint32_t>(&tri - triangles_.data());
         p.cell = tri.cell;
+        p.big = false;
         (side > 0.0 ? front : back).push_back(p);
     }
     stats.exterior_faces = front.size() + back.size();
+    // Depth order lets the scans below stop early: a g that starts behind h's far end cannot
+    // be nearer than h anywhere.
+    std::sort(front.begin(), front.end(), [](const Projection& a, const Projection& b) { return a.depth_hi > b.depth_hi; });
+    std::sort(back.begin(), back.end(), [](const Projection& a, const Projection& b) { return a.depth_lo < b.depth_lo; });
+    auto depth_rules_out = [](const Projection& g, const Projection& h) { return g.depth_lo > h.depth_hi * (1.0 + 1e-9); };
+
+    // Over their overlap, is g (facing away) nearer than h (facing the eye)? Decided by which
+    // side of each other's plane the triangles lie (Newell's tests 4 and 5, §III): the eye is
+    // on h's outer side and g's inner side, so g lies nearer wherever g is on h's outer side or
+    // h on g's outer side. Plane-side tests stay well conditioned for faces seen nearly
+    // edge-on, whose depth along a ray does not. Only if the triangles straddle each other's
+    // planes are the depths along the ray through the centroid of the overlap compared.
+    auto g_is_nearer = [&](const Projection& g, const Projection& h, const double* px, const double* py, int count,
+                           double area) {
+        const Triangle& tg = triangles_[g.triangle];
+        const Triangle& th = triangles_[h.triangle];
+        const glm::dvec3 vg[3] = {mesh_.points[tg.v[0]], mesh_.points[tg.v[1]], mesh_.points[tg.v[2]]};
+        const glm::dvec3 vh[3] = {mesh_.points[th.v[0]], mesh_.points[th.v[1]], mesh_.points[th.v[2]]};
+        const glm::dvec3 ng = glm::normalize(glm::cross(vg[1] - vg[0], vg[2] - vg[0]));
+        const glm::dvec3 nh = glm::normalize(glm::cross(vh[1] - vh[0], vh[2] - vh[0]));
+        double size = 0.0;
+        for (int i = 0; i < 3; ++i) {
+            size = std::max({size, glm::length(vg[(i + 1) % 3] - vg[i]), glm::length(vh[(i + 1) % 3] - vh[i])});
+        }
+        const double eps = 1e-9 * size;
+        // all_out: every vertex of `v` on the outer side of the plane (n, a); all_in: inner.
+        auto sides = [&](const glm::dvec3* v, const glm::dvec3& n, const glm::dvec3& a, bool& all_out, bool& all_in) {
+            all_out = all_in = true;
+            for (int i = 0; i < 3; ++i) {
+                const double d = glm::dot(n, v[i] - a);
+                all_out = all_out && d >= -eps;
+                all_in = all_in && d <= eps;
+            }
+        };
+        bool g_out_of_h, g_in_h, h_out_of_g, h_in_g;
+        sides(vg, nh, vh[0], g_out_of_h, g_in_h);
+        sides(vh, ng, vg[0], h_out_of_g, h_in_g);
+        const bool nearer = g_out_of_h || h_out_of_g;
+        const bool farther = g_in_h || h_in_g;
+        if (nearer != farther) return nearer;
+        if (nearer) return true; // coplanar and coincident: B is left where A is entered
+        // Both straddle: compare where the ray through the overlap's centroid meets the planes.
+        double cx = 0.0, cy = 0.0;
+        for (int i = 0; i < count; ++i) {
+            const int j = (i + 1) % count;
+            const double w = px[i] * py[j] - px[j] * py[i];
+            cx += (px[i] + px[j]) * w;
+            cy += (py[i] + py[j]) * w;
+        }
+        cx /= 6.0 * area, cy /= 6.0 * area;
+        const glm::dvec3 origin = ortho ? camera.eye + r * cx + u * cy : camera.eye;
+        const glm::dvec3 dir = ortho ? f : r * cx + u * cy + f; // unit depth per unit parameter
+        const double dg = glm::dot(ng, vg[0] - origin) / glm::dot(ng, dir);
+        const double dh = glm::dot(nh, vh[0] - origin) / glm::dot(nh, dir);
+        return dg <= dh + 1e-9 * std::abs(dh);
+    };
 
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
     std::size_t tested = 0;
+    double ox[12], oy[12];
+    // The exact test of a pair whose bounding boxes overlap and depths allow g nearer.
+    auto test_pair = [&](const Projection& g, const Projection& h) {
+        ++tested;
+        const int count = clip_polygon(g, h, ox, oy);
+        if (count < 3) return;
+        const double area = polygon_area(ox, oy, count);
+        // Positive area well above rounding: faces that only touch give slivers.
+        if (!(area > 1e-9 * std::min(g.area, h.area))) return;
+        if (g_is_nearer(g, h, ox, oy, count, area)) pairs.emplace_back(h.cell, g.cell);
+    };
+    auto boxes_overlap = [](const Projection& a, const Projection& b) {
+        return std::max(a.lo_x, b.lo_x) < std::min(a.hi_x, b.hi_x) && std::max(a.lo_y, b.lo_y) < std::min(a.hi_y, b.hi_y);
+    };
+
     std::vector<std::uint32_t> tile_first[2], tile_items[2];
+    std::vector<std::uint32_t> big_front, big_back;
     if (!front.empty() && !back.empty()) {
-        // Tiles: about twice the median projection, at most ~4 tiles per projection.
+        // Tiles: about twice the median projection, at most ~2 tiles per projection. A
+        // projection over more than kBigTiles tiles (near the eye) is kept out of the tiles
+        // and tested against every opposite projection in depth order instead.
+        constexpr int kBigTiles = 16;
         const std::size_t m = front.size() + back.size();
         double lo_x = front[0].lo_x, lo_y = front[0].lo_y, hi_x = front[0].hi_x, hi_y = front[0].hi_y;
         std::vector<double> extent;
@@ -196,72 +265,45 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
         std::nth_element(extent.begin(), extent.begin() + m / 2, extent.end());
         const double width = std::max(hi_x - lo_x, hi_y - lo_y);
         double tile = std::max(2.0 * extent[m / 2], width * 1e-6);
-        const double max_tiles = 4.0 * double(m) + 64.0;
-        double tiles = std::ceil((hi_x - lo_x) / tile + 1.0) * std::ceil((hi_y - lo_y) / tile + 1.0);
+        std::vector<double>().swap(extent);
+        const double max_tiles = 2.0 * double(m) + 64.0;
+        const double tiles = std::ceil((hi_x - lo_x) / tile + 1.0) * std::ceil((hi_y - lo_y) / tile + 1.0);
         if (tiles > max_tiles) tile *= std::sqrt(tiles / max_tiles);
         const int nx = std::max(1, static_cast<int>(std::ceil((hi_x - lo_x) / tile)));
         const int ny = std::max(1, static_cast<int>(std::ceil((hi_y - lo_y) / tile)));
         auto tile_x = [&](double x) { return std::clamp(static_cast<int>((x - lo_x) / tile), 0, nx - 1); };
         auto tile_y = [&](double y) { return std::clamp(static_cast<int>((y - lo_y) / tile), 0, ny - 1); };
-        const std::vector<Projection>* lists[2] = {&back, &front};
+        std::vector<Projection>* lists[2] = {&back, &front};
+        std::vector<std::uint32_t>* bigs[2] = {&big_back, &big_front};
         for (int l = 0; l < 2; ++l) {
-            // Compressed rows: tile t holds items[first[t] .. first[t + 1]).
+            // Compressed rows: tile t holds items[first[t] .. first[t + 1]), in depth order.
             std::vector<std::uint32_t>& first = tile_first[l];
             std::vector<std::uint32_t>& items = tile_items[l];
             first.assign(std::size_t(nx) * ny + 1, 0);
-            auto for_each_tile = [&](const Projection& p, auto&& fn) {
-                for (int ty = tile_y(p.lo_y); ty <= tile_y(p.hi_y); ++ty)
-                    for (int tx = tile_x(p.lo_x); tx <= tile_x(p.hi_x); ++tx) fn(std::size_t(ty) * nx + tx);
-            };
-            for (const Projection& p : *lists[l]) for_each_tile(p, [&](std::size_t t) { ++first[t + 1]; });
+            for (std::uint32_t i = 0; i < lists[l]->size(); ++i) {
+                Projection& p = (*lists[l])[i];
+                const int tx0 = tile_x(p.lo_x), tx1 = tile_x(p.hi_x), ty0 = tile_y(p.lo_y), ty1 = tile_y(p.hi_y);
+                if ((tx1 - tx0 + 1) * (ty1 - ty0 + 1) > kBigTiles) {
+                    p.big = true;
+                    bigs[l]->push_back(i);
+                    continue;
+                }
+                for (int ty = ty0; ty <= ty1; ++ty)
+                    for (int tx = tx0; tx <= tx1; ++tx) ++first[std::size_t(ty) * nx + tx + 1];
+            }
             for (std::size_t t = 1; t < first.size(); ++t) first[t] += first[t - 1];
             items.resize(first.back());
             std::vector<std::uint32_t> cursor(first.begin(), first.end() - 1);
-            for (std::uint32_t i = 0; i < lists[l]->size(); ++i)
-                for_each_tile((*lists[l])[i], [&](std::size_t t) { items[cursor[t]++] = i; });
+            for (std::uint32_t i = 0; i < lists[l]->size(); ++i) {
+                const Projection& p = (*lists[l])[i];
+                if (p.big) continue;
+                for (int ty = tile_y(p.lo_y); ty <= tile_y(p.hi_y); ++ty)
+                    for (int tx = tile_x(p.lo_x); tx <= tile_x(p.hi_x); ++tx) items[cursor[std::size_t(ty) * nx + tx]++] = i;
+            }
         }
 
-        // Over their overlap, is g (facing away) nearer than h (facing the eye)? Decided by
-        // which side of each other's plane the triangles lie (Newell's tests 4 and 5, §III):
-        // the eye is on h's outer side and g's inner side, so g lies nearer wherever g is on
-        // h's outer side or h on g's outer side. Plane-side tests stay well conditioned for
-        // faces seen nearly edge-on, whose depth along a ray does not. Only if the triangles
-        // straddle each other's planes are the depths along the ray through the centroid of
-        // the overlap compared.
-        auto g_is_nearer = [&](const Projection& g, const Projection& h, const double* px, const double* py, int count,
-                               double area) {
-            const double eps = 1e-9 * std::max(g.size, h.size);
-            auto sides = [&](const Projection& of, const Projection& plane, bool& all_out, bool& all_in) {
-                all_out = all_in = true;
-                for (int i = 0; i < 3; ++i) {
-                    const double s = glm::dot(plane.world_normal, of.world[i] - plane.world[0]);
-                    all_out = all_out && s >= -eps;
-                    all_in = all_in && s <= eps;
-                }
-            };
-            bool g_out_of_h, g_in_h, h_out_of_g, h_in_g;
-            sides(g, h, g_out_of_h, g_in_h);
-            sides(h, g, h_out_of_g, h_in_g);
-            const bool nearer = g_out_of_h || h_out_of_g;
-            const bool farther = g_in_h || h_in_g;
-            if (nearer != farther) return nearer;
-            if (nearer) return true; // coplanar and coincident: B is left where A is entered
-            double cx = 0.0, cy = 0.0;
-            for (int i = 0; i < count; ++i) {
-                const int j = (i + 1) % count;
-                const double w = px[i] * py[j] - px[j] * py[i];
-                cx += (px[i] + px[j]) * w;
-                cy += (py[i] + py[j]) * w;
-            }
-            cx /= 6.0 * area, cy /= 6.0 * area;
-            auto depth = [&](const Projection& p) {
-                return ortho ? (p.k - p.n.x * cx - p.n.y * cy) / p.n.z : p.k / (p.n.x * cx + p.n.y * cy + p.n.z);
-            };
-            const double dg = depth(g), dh = depth(h);
-            return dg <= dh + 1e-9 * std::abs(dh);
-        };
-
-        double ox[12], oy[12];
+        // Small against small, in shared tiles; each pair once, in the tile holding the low
+        // corner of the overlap of their bounding boxes.
         for (int ty = 0; ty < ny; ++ty) {
             for (int tx = 0; tx < nx; ++tx) {
                 const std::size_t t = std::size_t(ty) * nx + tx;
@@ -269,21 +311,27 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
                     const Projection& g = back[tile_items[0][bi]];
                     for (std::uint32_t fi = tile_first[1][t]; fi < tile_first[1][t + 1]; ++fi) {
                         const Projection& h = front[tile_items[1][fi]];
-                        if (g.cell == h.cell) continue;
-                        const double ix = std::max(g.lo_x, h.lo_x), iy = std::max(g.lo_y, h.lo_y);
-                        if (ix >= std::min(g.hi_x, h.hi_x) || iy >= std::min(g.hi_y, h.hi_y)) continue;
-                        if (tile_x(ix) != tx || tile_y(iy) != ty) continue; // the pair's home tile is another
-                        // g wholly behind h: the ray meets h first, no gap between them.
-                        if (g.depth_lo > h.depth_hi * (1.0 + 1e-9)) continue;
-                        ++tested;
-                        const int count = clip_polygon(g, h, ox, oy);
-                        if (count < 3) continue;
-                        const double area = polygon_area(ox, oy, count);
-                        // Positive area well above rounding: touching faces give slivers.
-                        if (!(area > 1e-9 * std::min(g.area, h.area))) continue;
-                        if (g_is_nearer(g, h, ox, oy, count, area)) pairs.emplace_back(h.cell, g.cell);
+                        if (depth_rules_out(g, h)) break; // and every later h, farther ends first
+                        if (g.cell == h.cell || !boxes_overlap(g, h)) continue;
+                        if (tile_x(std::max(g.lo_x, h.lo_x)) != tx || tile_y(std::max(g.lo_y, h.lo_y)) != ty) continue;
+                        test_pair(g, h);
                     }
                 }
+            }
+        }
+        // Big against everything opposite (big against big once: from the back side).
+        for (std::uint32_t gi : big_back) {
+            const Projection& g = back[gi];
+            for (const Projection& h : front) {
+                if (depth_rules_out(g, h)) break;
+                if (g.cell != h.cell && boxes_overlap(g, h)) test_pair(g, h);
+            }
+        }
+        for (std::uint32_t hi : big_front) {
+            const Projection& h = front[hi];
+            for (const Projection& g : back) {
+                if (depth_rules_out(g, h)) break; // backs nearest first
+                if (!g.big && g.cell != h.cell && boxes_overlap(g, h)) test_pair(g, h);
             }
         }
     }
@@ -294,7 +342,9 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
     stats.seconds_keys += seconds_since(t0);
     stats.working_bytes += (front.capacity() + back.capacity()) * sizeof(Projection) + pair_bytes +
                            (tile_first[0].capacity() + tile_first[1].capacity() + tile_items[0].capacity() +
-                            tile_items[1].capacity()) * sizeof(std::uint32_t) + out.memory_bytes();
+                            tile_items[1].capacity() + big_front.capacity() + big_back.capacity()) *
+                               sizeof(std::uint32_t) +
+                           out.memory_bytes();
 }
 
 } // namespace fx::sort_detail
