@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <string>
+#include <thread>
 
 #include "fx/error.hpp"
 #include "fx/face_topology.hpp"
@@ -218,7 +219,18 @@ TEST_CASE("xmpvo is exact on non-convex meshes, where mpvo is not", "[sort]") {
     require_exact("C-shape (hexahedra)", c_hexes, SortMethod::Xmpvo, sort_test::random_views(c_hexes, 9, 32));
 
     const fx::CellMesh hollow = sort_test::hollow_box(6, 2);
-    require_exact("box with a cavity", hollow, SortMethod::Xmpvo, sort_test::random_views(hollow, 9, 33));
+    std::vector<fx::Camera> hollow_views = sort_test::random_views(hollow, 9, 33);
+    // Eye on the plane of the cavity's floor (z = 2/6, the same double as the mesh's points):
+    // boundary faces seen exactly edge-on, perspective and orthographic.
+    fx::Camera edge_on;
+    edge_on.eye = {-1.5, 0.45, 2.0 / 6.0};
+    edge_on.target = {0.5, 0.55, 2.0 / 6.0};
+    edge_on.up = {0.0, 0.0, 1.0};
+    edge_on.near_distance = 1e-3;
+    hollow_views.push_back(edge_on);
+    edge_on.ortho_height = 1.6;
+    hollow_views.push_back(edge_on);
+    require_exact("box with a cavity", hollow, SortMethod::Xmpvo, hollow_views);
     const fx::CellMesh two = sort_test::two_boxes();
     require_exact("two boxes", two, SortMethod::Xmpvo, sort_test::random_views(two, 9, 34));
 
@@ -313,6 +325,27 @@ TEST_CASE("cycles are broken and counted, never looped on", "[sort]") {
         }
     }
     WARN("twisted hexahedra: " << cycles << " cycles broken over 60 sorts");
+}
+
+TEST_CASE("sort() may run on several threads at once", "[sort]") {
+    const fx::CellMesh mesh = sort_test::c_shape(24, 3, 2, true);
+    const std::vector<fx::Camera> views = sort_test::random_views(mesh, 4, 71);
+    for (SortMethod m : fx::all_sort_methods()) {
+        const fx::VisibilitySort sorter(mesh, m);
+        std::vector<std::vector<std::uint32_t>> expected(views.size());
+        for (std::size_t v = 0; v < views.size(); ++v) sorter.sort(views[v], expected[v]);
+        std::vector<std::vector<std::uint32_t>> got[2];
+        auto work = [&](int t) {
+            got[t].resize(views.size());
+            for (int round = 0; round < 3; ++round)
+                for (std::size_t v = 0; v < views.size(); ++v) sorter.sort(views[v], got[t][v]);
+        };
+        std::thread a(work, 0), b(work, 1);
+        a.join();
+        b.join();
+        CHECK(got[0] == expected);
+        CHECK(got[1] == expected);
+    }
 }
 
 TEST_CASE("visibility sort rejects vertex indices out of range", "[sort]") {

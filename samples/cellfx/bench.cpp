@@ -14,7 +14,7 @@ int run_bench(const std::vector<std::string>& args) {
                   "  scanline   CPU scan-line renderer on a synthetic nine-grid data set (Wilhelms et al. Table 3)\n"
                   "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)\n"
                   "  sort       visibility sorts (centroid, mpvo, xmpvo, power) on ~1M tetrahedra\n"
-                  "             options: --cells N (1000000), --views N (8), --repeat N (3),\n"
+                  "             options: --cells N (1000000), --views N (8), --repeat N (5),\n"
                   "                      --mesh all|grid|jittered|c-shape (all)");
         return args.empty() ? 2 : 0;
     }
