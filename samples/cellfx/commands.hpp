@@ -17,6 +17,8 @@ namespace cellfx_cli {
 
 // `cellfx bench scanline`: the synthetic nine-grid data set of Wilhelms et al. Table 3.
 int bench_scanline(const std::vector<std::string>& args);
+// `cellfx bench pcp`: cells per second of the GPU cell-projection paths (Roettger & Ertl §4).
+int bench_pcp(const std::vector<std::string>& args);
 
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);

@@ -44,6 +44,8 @@
 namespace fx {
 
 enum class RenderPath { Pcp, PcpExact, Mip };
+// Every path, in the order tools list them (the CLI offers each under render_path_name()).
+inline constexpr RenderPath kRenderPaths[] = {RenderPath::Pcp, RenderPath::PcpExact, RenderPath::Mip};
 const char* render_path_name(RenderPath path); // "pcp", "pcp-exact", "mip"
 // Parses "pcp", "pcp-exact" or "mip"; false for anything else.
 bool parse_render_path(std::string_view name, RenderPath& path);
