@@ -1,11 +1,13 @@
 // Frame tests of the Absorption paths (`absorption`, `absorption-exact`) against the CPU
 // scan-line reference (fx::ScanlineRenderer, EmissionAbsorption), on llvmpipe.
 //
-// Sorting: the centroid sort is what fx::VisibilitySort offers today; it is exact on grids of
-// equal boxes (their cells are the Voronoi cells of their centres) and on some curvilinear
-// views, approximate elsewhere. Every test therefore checks the renderer's own order along
-// each pixel's ray, independently (ray–triangle intersections, absorption_test::check_order),
-// states how many pixels it may get wrong, and compares only the pixels whose order is right.
+// Sorting: each mesh is drawn with the sort that is exact for it (fx::VisibilitySort): the
+// centroid sort on grids of equal boxes (their cells are the Voronoi cells of their centres)
+// and the blunt fin's view, mpvo on convex meshes, xmpvo on non-convex ones, power on the
+// Delaunay mesh. Every test also checks the renderer's order along each pixel's ray,
+// independently (ray–triangle intersections, absorption_test::check_order), requires it to
+// be right everywhere, and compares only pixels whose order is right (so a sort regression
+// shows as a count, not as a tolerance to loosen).
 //
 // Tolerances, per flavour (relative to `peak`, the largest reference value of any channel):
 //   absorption-exact — both sides integrate the same segments exactly; what is left is the
@@ -46,11 +48,10 @@ struct Tolerance {
     float pixel = 0.0f;        // per channel, fraction of peak
     double mean = 0.0;         // mean over compared channels, fraction of peak
     double beyond = 0.01;      // fraction of compared pixels allowed beyond `pixel`
-    double misordered = 0.0;   // fraction of covered pixels whose ray order may be wrong
 };
 
-Tolerance exact_tolerance() { return {0.015f, 0.001, 0.01, 0.0}; }
-Tolerance classic_tolerance() { return {0.04f, 0.004, 0.01, 0.0}; }
+Tolerance exact_tolerance() { return {0.015f, 0.001, 0.01}; }
+Tolerance classic_tolerance() { return {0.04f, 0.004, 0.01}; }
 
 struct Result {
     float peak = 0.0f;
@@ -61,8 +62,8 @@ struct Result {
     fx::CellRenderStats stats;
 };
 
-// Renders `path` and the scan-line reference and checks `tol` on the pixels whose ray order
-// (the renderer's sort, redone here on the same cells) is right.
+// Renders `path` and the scan-line reference, checks that the renderer's order (its sort,
+// redone here on the same cells) is right along every pixel ray, and checks `tol`.
 Result compare(const std::string& name, const fx::CellMesh& mesh, const std::string& field,
                const fx::TransferFunction& tf, const fx::Camera& cam, fx::RenderPath path, int size,
                const Tolerance& tol, const fx::CellRenderOptions& options = {}) {
@@ -109,8 +110,7 @@ Result compare(const std::string& name, const fx::CellMesh& mesh, const std::str
               << 100.0 * r.mean_delta / r.peak << "%, beyond tolerance " << 100.0 * r.beyond
               << "% of pixels; misordered " << r.misordered << " of " << r.covered << " covered; problem cells "
               << r.stats.problem_cells << ", pieces " << r.stats.pieces);
-    const bool ok = finite && r.beyond <= tol.beyond && r.mean_delta <= tol.mean * r.peak &&
-                    double(r.misordered) <= tol.misordered * double(r.covered);
+    const bool ok = finite && r.beyond <= tol.beyond && r.mean_delta <= tol.mean * r.peak && r.misordered == 0;
     if (!ok) {
         const std::string prefix = fx_test::write_failure_images(
             name + "_" + fx::render_path_name(path) + "_" + fx::sort_method_name(options.sort), actual, expected,
@@ -121,7 +121,7 @@ Result compare(const std::string& name, const fx::CellMesh& mesh, const std::str
     CHECK(finite);
     CHECK(r.beyond <= tol.beyond);
     CHECK(r.mean_delta <= tol.mean * r.peak);
-    CHECK(double(r.misordered) <= tol.misordered * double(r.covered));
+    CHECK(r.misordered == 0); // the sort chosen for each mesh is exact for it
     return r;
 }
 
@@ -140,14 +140,6 @@ fx::TransferFunction glow(double density) {
                                  {0.4, {0.6, 0.4, 0.5}, 1.0 * density},
                                  {1.0, {1.0, 0.9, 0.3}, 2.0 * density}},
                                 true);
-}
-
-// The exact sort for a kind of mesh once fx::VisibilitySort offers it, else the centroid sort
-// (the test then compares only the pixels whose order is right, and says so).
-fx::SortMethod sort_or_centroid(const char* name) {
-    fx::SortMethod m = fx::SortMethod::Centroid;
-    if (!fx::parse_sort_method(name, m)) WARN("sort '" << name << "' not available yet: using the centroid sort");
-    return m;
 }
 
 const fx::RenderPath kPaths[] = {fx::RenderPath::AbsorptionExact, fx::RenderPath::Absorption};
@@ -204,13 +196,8 @@ TEST_CASE("absorption vs scan-line: a convex tetrahedral mesh (tetraMesh.vtk)", 
     const fx::Bounds b = fx::mesh_bounds(mesh);
     const fx::Camera cam = fx::Camera::framing(b.lo, b.hi, 40.0);
     fx::CellRenderOptions options;
-    options.sort = sort_or_centroid("mpvo"); // exact on a convex mesh
-    for (fx::RenderPath path : kPaths) {
-        Tolerance tol = tolerance_of(path);
-        // Centroid: 72 of 827 covered pixels see two cells in the wrong order (measured).
-        tol.misordered = options.sort == fx::SortMethod::Centroid ? 0.1 : 0.0;
-        compare("tetra_mesh", mesh, "scalars", glow(0.15), cam, path, 64, tol, options);
-    }
+    options.sort = fx::SortMethod::Mpvo; // exact on a convex mesh (centroid: 72 of 827 pixels wrong)
+    for (fx::RenderPath path : kPaths) compare("tetra_mesh", mesh, "scalars", glow(0.15), cam, path, 64, tolerance_of(path), options);
 }
 
 TEST_CASE("absorption vs scan-line: a Delaunay tetrahedralisation", "[gl][absorption]") {
@@ -219,23 +206,17 @@ TEST_CASE("absorption vs scan-line: a Delaunay tetrahedralisation", "[gl][absorp
     // The power-distance order is exact here (Edelsbrunner): check the test's own premise.
     CHECK(absorption_test::check_order(mesh, absorption_test::power_order(mesh, cam), cam, 64, 64).pixels_wrong == 0);
     fx::CellRenderOptions options;
-    options.sort = sort_or_centroid("power");
-    for (fx::RenderPath path : kPaths) {
-        Tolerance tol = tolerance_of(path);
-        // Centroid: most rays see slivers out of order (1096 of 1217 pixels, measured).
-        tol.misordered = options.sort == fx::SortMethod::Centroid ? 0.95 : 0.0;
-        compare("delaunay", mesh, "s", glow(1.0), cam, path, 64, tol, options);
-    }
+    options.sort = fx::SortMethod::Power; // (centroid: 1096 of 1217 pixels see slivers out of order)
+    for (fx::RenderPath path : kPaths) compare("delaunay", mesh, "s", glow(1.0), cam, path, 64, tolerance_of(path), options);
 }
 
 TEST_CASE("absorption vs scan-line: a non-convex C-shaped grid, seen through both arms", "[gl][absorption]") {
     const fx::CellMesh mesh = absorption_test::c_shape();
     for (std::size_t c = 0; c < mesh.cell_count(); ++c) REQUIRE(fx::cell_signed_volume(mesh, c) > 0.0);
     // Rays cross one arm, leave the mesh and enter the other: the back arm must come first.
-    // For this view the centroid order is right on every pixel (required below).
     const fx::Camera cam = perspective({0.3, -4.0, 2.0}, {0.0, 0.2, 0.3});
     fx::CellRenderOptions options;
-    options.sort = sort_or_centroid("xmpvo"); // exact on non-convex meshes of convex cells
+    options.sort = fx::SortMethod::Xmpvo; // exact on non-convex meshes of convex cells
     for (fx::RenderPath path : kPaths)
         compare("c_shape", mesh, "s", glow(1.5), cam, path, 64, tolerance_of(path), options);
 }
@@ -244,16 +225,14 @@ TEST_CASE("absorption vs scan-line: curvilinear hexahedra with non-planar faces 
     const fx::CellMesh mesh = absorption_test::twisted_box(4, 0.8);
     const fx::Camera cam = perspective({2.0, -2.4, 1.6}, {0.0, 0.0, 0.5});
     fx::CellRenderOptions options;
-    options.sort = sort_or_centroid("xmpvo"); // its boundary is curved: not convex
+    options.sort = fx::SortMethod::Xmpvo; // its boundary is curved: not convex
     for (fx::RenderPath path : kPaths) {
         // Problem cells are cut into tetrahedra: inside them the scalar is linear per
         // tetrahedron, where the reference interpolates linearly along the ray between the
         // cell's faces — a modelling difference of up to the field's curvature over a cell.
         Tolerance tol = tolerance_of(path);
         tol.pixel += 0.01f;
-        // Centroid: 304 of 1080 covered pixels out of order (measured), mostly through the
-        // twisted cells and their tetrahedra.
-        tol.misordered = options.sort == fx::SortMethod::Centroid ? 0.35 : 0.0;
+        // (Centroid: 304 of 1080 pixels out of order, mostly through the twisted cells.)
         const Result r = compare("twisted", mesh, "s", glow(1.5), cam, path, 64, tol, options);
         CHECK(r.stats.problem_cells > 0);
     }
@@ -268,10 +247,9 @@ TEST_CASE("absorption vs scan-line: the blunt fin", "[gl][absorption]") {
     const fx::Camera cam = fx::Camera::framing(b.lo, b.hi, 40.0);
     // For this view the centroid order is right on every pixel (required), and so is the
     // exact sort for a curved, non-convex boundary.
-    for (const char* sort : {"centroid", "xmpvo"}) {
+    for (fx::SortMethod sort : {fx::SortMethod::Centroid, fx::SortMethod::Xmpvo}) {
         fx::CellRenderOptions options;
-        options.sort = sort_or_centroid(sort);
-        if (std::string(sort) != fx::sort_method_name(options.sort)) continue;
+        options.sort = sort;
         for (fx::RenderPath path : kPaths)
             compare("blunt_fin", mesh, "density", glow(0.4), cam, path, 96, tolerance_of(path), options);
     }
@@ -323,7 +301,7 @@ TEST_CASE("absorption vs scan-line: a transfer function with sharp steps (step.j
         // be what makes the difference.
         fx::CellRenderOptions unsliced;
         unsliced.slice_breakpoints = false;
-        Tolerance loose{1.0f, 1.0, 1.0, 0.0};
+        Tolerance loose{1.0f, 1.0, 1.0};
         const Result whole = compare("step_hex_unsliced", mesh, "s", step, cam, fx::RenderPath::Absorption, 64, loose, unsliced);
         CHECK(whole.mean_delta > 5.0 * sliced.mean_delta);
     }
@@ -331,14 +309,11 @@ TEST_CASE("absorption vs scan-line: a transfer function with sharp steps (step.j
         // The same field on consistent tetrahedra: now slicing is exact inside every piece.
         const fx::CellMesh tets = fx::tetrahedralize(mesh);
         fx::CellRenderOptions options;
-        options.sort = sort_or_centroid("mpvo");
+        options.sort = fx::SortMethod::Mpvo;
         Tolerance exact = exact_tolerance();
         exact.beyond = 0.03;
-        exact.misordered = options.sort == fx::SortMethod::Centroid ? 0.3 : 0.0;
         compare("step_tets", tets, "s", step, cam, fx::RenderPath::AbsorptionExact, 64, exact, options);
-        Tolerance classic = classic_tolerance();
-        classic.misordered = exact.misordered;
-        compare("step_tets", tets, "s", step, cam, fx::RenderPath::Absorption, 64, classic, options);
+        compare("step_tets", tets, "s", step, cam, fx::RenderPath::Absorption, 64, classic_tolerance(), options);
     }
 }
 

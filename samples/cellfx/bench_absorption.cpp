@@ -46,18 +46,6 @@ double median(std::vector<double> v) {
     return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Every sort this build offers: the enumeration's values in order, up to the first unnamed one.
-std::vector<fx::SortMethod> all_sorts() {
-    std::vector<fx::SortMethod> sorts;
-    for (int i = 0; i < 64; ++i) {
-        const fx::SortMethod m = static_cast<fx::SortMethod>(i);
-        fx::SortMethod parsed;
-        if (!fx::parse_sort_method(fx::sort_method_name(m), parsed) || parsed != m) break;
-        sorts.push_back(m);
-    }
-    return sorts;
-}
-
 struct Scene {
     std::string name;
     fx::CellMesh mesh;
@@ -140,7 +128,7 @@ int bench_absorption(const std::vector<std::string>& args) {
     const std::string blunt = parsed.get("blunt-fin", std::string(CELLFX_SOURCE_DIR) + "/content/meshes/blunt_fin");
     const std::string spx = parsed.get("spx", std::string(CELLFX_SHARED_DATA) + "/spx/spx.inp");
     const std::string scenes = parsed.get("scenes", "spx,blunt-fin,box");
-    std::vector<fx::SortMethod> sorts = all_sorts();
+    std::vector<fx::SortMethod> sorts = fx::all_sort_methods();
     if (parsed.has("sort")) {
         sorts.clear();
         std::string list = parsed.get("sort");

@@ -22,4 +22,7 @@ int bench_pcp(const std::vector<std::string>& args);
 // `cellfx bench absorption`: the absorption paths for every sort (Max, Williams & Silva 2000).
 int bench_absorption(const std::vector<std::string>& args);
 
+// `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
+int bench_sort(const std::vector<std::string>& args);
+
 } // namespace cellfx_cli
