@@ -1,6 +1,8 @@
-// cellfx — GPU cell projection: the PCP, PCP-exact and MIP render paths on OpenGL 4.5.
+// cellfx — GPU cell projection: the PCP, PCP-exact and MIP render paths and the sorted
+// absorption paths on OpenGL 4.5.
 //
-// Based on: Roettger & Ertl 2003, §2 (MIP), §3 (PCP) and §5 (near-plane caps).
+// Based on: Roettger & Ertl 2003, §2 (MIP), §3 (PCP) and §5 (near-plane caps); Max, Williams &
+// Silva 2000, §II–§V (absorption).
 //
 //   pcp        classic, as in the paper: per batch of cells with disjoint screen footprints,
 //              back faces → alpha (d − d_min)/Δd, front faces and near-plane caps subtracted,
@@ -21,7 +23,8 @@
 //              cells at transfer-function breakpoints sliced (§V). CPU work per frame.
 //   absorption-exact  the same order, one draw: per fragment entry/exit through the cell's
 //              planes and a pre-integration table over (s_front, s_back, length), float target.
-//              Both cut the cells with problem faces (§V) into tetrahedra for the view.
+//              Both cut the cells with problem faces (§V) into tetrahedra for the view, and
+//              need positively oriented cells (an inverted one throws fx::Error naming it).
 //              docs/absorption.md: tolerances, limits, timings.
 //
 // STEP BY STEP (a game loop):
