@@ -5,10 +5,13 @@
 // c·σ is monotonic between the two scalars (see docs/render_paths.md for the exception).
 #include "project.glsl"
 
+layout(location = 0) in vec3 v_position;
 layout(location = 1) in float v_scalar;
 
 layout(location = 0) out vec4 o_color;
 
 void main() {
+    // Scene depth: faces behind the scene's surface are hidden (caps lie on the near plane).
+    if (dot(v_position - u_eye, u_forward) > scene_view_depth(gl_FragCoord.xy)) discard;
     o_color = vec4(emission_at(v_scalar).rgb, 0.0);
 }

@@ -20,6 +20,7 @@ layout(location = 1) out float v_scalar;
 layout(location = 2) flat out uint v_cell;
 layout(location = 3) out float v_alpha;   // classic PCP: (d − d_min)/Δd
 layout(location = 4) out vec3 v_color;    // classic PCP: κ(S)·Δd/2
+layout(location = 5) flat out vec2 v_range; // classic PCP: d_min, Δd (scene-depth clamp)
 
 void main() {
     vec3 p;
@@ -66,6 +67,7 @@ void main() {
     v_scalar = s;
     v_cell = cell;
     float d = cap ? 0.0 : near_plane_distance(p);
+    v_range = range;
     v_alpha = range.y > 0.0 ? clamp((d - range.x) / range.y, 0.0, 1.0) : 0.0;
     // Classic colour I = κ(S)·Δd/2 (§3); pcp.frag turns view depth into length along the ray.
     v_color = emission_at(s).rgb * (0.5 * range.y);
