@@ -200,3 +200,19 @@ TEST_CASE("Aurora curtains hang from the ceiling by the penetration depth", "[te
     bad.count = 0;
     CHECK_THROWS_WITH(terrain::make_aurora_depth(65, 20.0, {0, 0}, bad), Catch::Contains("count"));
 }
+
+TEST_CASE("Relative valley fog collects in hollows at their own height", "[terrain][prisms]") {
+    // Two bowls at very different heights: an absolute level fills one, a relative one both.
+    const terrain::HeightField ground = terrain::make_height_field(65, 10.0, [](double x, double y) {
+        const double a = (x - 160) * (x - 160) + (y - 320) * (y - 320), b = (x - 480) * (x - 480) + (y - 320) * (y - 320);
+        return 500.0 - 60.0 * std::exp(-a / 8000.0) - 60.0 * std::exp(-b / 8000.0) + (x > 320 ? 300.0 : 0.0);
+    });
+    const terrain::HeightField absolute = terrain::make_valley_fog_map(ground, 470.0, 100.0);
+    const terrain::HeightField relative = terrain::make_valley_fog_map(ground, -15.0, 100.0, {}, 150.0);
+    CHECK(absolute.at(16, 32) > 10.0f);  // the low bowl's floor
+    CHECK(absolute.at(48, 32) == 0.0f);  // the high bowl is above 470
+    CHECK(relative.at(16, 32) > 10.0f);
+    CHECK(relative.at(48, 32) > 10.0f);
+    CHECK(relative.at(2, 2) == 0.0f);    // flat ground far from both stays clear
+    CHECK_THROWS_WITH(terrain::make_valley_fog_map(ground, 0.0, 1.0, {}, -1.0), Catch::Contains("radius"));
+}

@@ -52,9 +52,11 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
                                 LayerPrismStats* stats = nullptr);
 
 // A valley fog map: the fog fills the ground up to `level` (+ `modulation(x, y)` when given,
-// e.g. 2-D noise), thickness = clamp(level + modulation − ground, 0, max_thickness). Throws
-// fx::Error for non-finite parameters or a negative max_thickness.
+// e.g. 2-D noise), thickness = clamp(level + modulation − ground, 0, max_thickness). With
+// `radius` > 0 the level is relative to the ground averaged over a square of ±radius world
+// units (a box filter), so fog collects in every hollow — crater floors, valley bottoms — at
+// its own height. Throws fx::Error for non-finite parameters, a negative max_thickness or radius.
 HeightField make_valley_fog_map(const HeightField& ground, double level, double max_thickness,
-                                const HeightGenerator& modulation = {});
+                                const HeightGenerator& modulation = {}, double radius = 0.0);
 
 } // namespace terrain

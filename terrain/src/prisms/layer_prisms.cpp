@@ -72,17 +72,43 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
 }
 
 HeightField make_valley_fog_map(const HeightField& ground, double level, double max_thickness,
-                                const HeightGenerator& modulation) {
-    if (!std::isfinite(level) || !std::isfinite(max_thickness) || max_thickness < 0.0)
-        throw fx::Error("valley fog map: level and max_thickness must be finite, max_thickness ≥ 0");
+                                const HeightGenerator& modulation, double radius) {
+    if (!std::isfinite(level) || !std::isfinite(max_thickness) || max_thickness < 0.0 || !std::isfinite(radius) ||
+        radius < 0.0)
+        throw fx::Error("valley fog map: level, max_thickness and radius must be finite, max_thickness and radius ≥ 0");
+    const int n = ground.size;
+    // Reference height per sample: 0, or the ground's mean over ±r samples (separable box
+    // filter with running sums, clamped at the border).
+    std::vector<double> reference(std::size_t(n) * std::size_t(n), 0.0);
+    const int r = int(std::floor(radius / ground.spacing));
+    if (r > 0) {
+        std::vector<double> rows(reference.size());
+        auto box = [&](auto get, auto set) {
+            for (int line = 0; line < n; ++line) {
+                double sum = 0.0;
+                int count = 0;
+                for (int k = 0; k <= std::min(r, n - 1); ++k) sum += get(line, k), ++count;
+                for (int k = 0; k < n; ++k) {
+                    set(line, k, sum / count);
+                    if (k + r + 1 < n) sum += get(line, k + r + 1), ++count;
+                    if (k - r >= 0) sum -= get(line, k - r), --count;
+                }
+            }
+        };
+        box([&](int j, int i) { return double(ground.at(i, j)); },
+            [&](int j, int i, double v) { rows[std::size_t(j) * n + i] = v; });
+        box([&](int i, int j) { return rows[std::size_t(j) * n + i]; },
+            [&](int i, int j, double v) { reference[std::size_t(j) * n + i] = v; });
+    }
     HeightField fog = ground;
-    for (int j = 0; j < ground.size; ++j) {
-        for (int i = 0; i < ground.size; ++i) {
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
             const double m = modulation ? modulation(ground.x(i), ground.y(j)) : 0.0;
             if (!std::isfinite(m))
                 throw fx::Error("valley fog map: the modulation is not finite at sample (" + std::to_string(i) + ", " +
                                 std::to_string(j) + ")");
-            fog.at(i, j) = float(std::clamp(level + m - double(ground.at(i, j)), 0.0, max_thickness));
+            const double top = reference[std::size_t(j) * n + i] + level + m;
+            fog.at(i, j) = float(std::clamp(top - double(ground.at(i, j)), 0.0, max_thickness));
         }
     }
     return fog;
