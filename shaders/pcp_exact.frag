@@ -39,24 +39,42 @@ void main() {
     // are not planar) are settled by containment: a candidate whose triangle contains its hit
     // point beats one that does not; then the larger parameter wins. Each triangle carries its
     // own linear scalar, so the triangle actually crossed matters.
+    // Fast path: when the latest crossing lies inside its own triangle it wins that rule
+    // outright, so the containment of the others is only looked at when it does not.
     const float kInside = -1e-4; // barycentric slack for hits on shared edges
-    float t_front = -3.4e38;
-    bool front_inside = false;
-    uint front = 0xFFFFFFFFu;
-    vec3 best_bary = vec3(1.0, 0.0, 0.0);
     uint first = cell_first_triangle[v_cell], last = cell_first_triangle[v_cell + 1u];
+    float t_front = -3.4e38;
+    uint front = 0xFFFFFFFFu;
     for (uint t = first; t < last; ++t) {
         vec4 plane = triangles[t].plane;
         float denom = dot(plane.xyz, ray.dir);
         if (denom >= -1e-6) continue; // back-facing for this ray, or grazing: cannot bound it
         float tt = (plane.w - dot(plane.xyz, ray.origin)) / denom;
-        vec3 bary = entry_barycentric(t, ray.origin + ray.dir * tt);
-        bool inside = min(bary.x, min(bary.y, bary.z)) >= kInside;
-        if ((inside && !front_inside) || (inside == front_inside && tt > t_front)) {
+        if (tt > t_front) {
             t_front = tt;
-            front_inside = inside;
-            best_bary = bary;
             front = t;
+        }
+    }
+    vec3 best_bary = vec3(1.0, 0.0, 0.0);
+    if (front != 0xFFFFFFFFu) {
+        best_bary = entry_barycentric(front, ray.origin + ray.dir * t_front);
+        if (min(best_bary.x, min(best_bary.y, best_bary.z)) < kInside) {
+            bool front_inside = false;
+            t_front = -3.4e38;
+            for (uint t = first; t < last; ++t) {
+                vec4 plane = triangles[t].plane;
+                float denom = dot(plane.xyz, ray.dir);
+                if (denom >= -1e-6) continue;
+                float tt = (plane.w - dot(plane.xyz, ray.origin)) / denom;
+                vec3 bary = entry_barycentric(t, ray.origin + ray.dir * tt);
+                bool inside = min(bary.x, min(bary.y, bary.z)) >= kInside;
+                if ((inside && !front_inside) || (inside == front_inside && tt > t_front)) {
+                    t_front = tt;
+                    front_inside = inside;
+                    best_bary = bary;
+                    front = t;
+                }
+            }
         }
     }
     float s_front = s_exit;

@@ -25,6 +25,7 @@
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/mesh_io.hpp"
+#include "fx/synthetic_meshes.hpp"
 #include "options.hpp"
 
 namespace cellfx_cli {
@@ -36,27 +37,15 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// An n³ grid of hexahedra on the unit cube with a smooth field.
 fx::CellMesh hex_grid(int n) {
     fx::CellMesh mesh;
-    const auto id = [n](int i, int j, int k) { return std::uint32_t((k * (n + 1) + j) * (n + 1) + i); };
-    fx::ScalarField f{"density", {}};
-    for (int k = 0; k <= n; ++k)
-        for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i) {
-                const glm::dvec3 p(double(i) / n, double(j) / n, double(k) / n);
-                mesh.points.push_back(p);
-                f.values.push_back(float(0.5 + 0.5 * std::sin(7.0 * p.x) * std::cos(5.0 * p.y) * std::sin(3.0 + 4.0 * p.z)));
-            }
-    mesh.begin_block("grid", {std::uint32_t(n + 1), std::uint32_t(n + 1), std::uint32_t(n + 1)});
-    for (int k = 0; k < n; ++k)
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const std::uint32_t v[8] = {id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),
-                                            id(i, j + 1, k), id(i, j, k + 1),     id(i + 1, j, k + 1),
-                                            id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
-                mesh.add_cell(fx::CellType::Hexahedron, v);
-            }
-    mesh.scalars.push_back(std::move(f));
+    const std::uint32_t nodes = std::uint32_t(n + 1);
+    fx::append_curvilinear_block(mesh, "grid", {nodes, nodes, nodes},
+                                 [](double u, double v, double w) { return glm::dvec3(u, v, w); });
+    fx::set_scalar_field(mesh, "density", [](const glm::dvec3& p) {
+        return 0.5 + 0.5 * std::sin(7.0 * p.x) * std::cos(5.0 * p.y) * std::sin(3.0 + 4.0 * p.z);
+    });
     return mesh;
 }
 

@@ -91,7 +91,7 @@ struct CellRenderer::Impl {
     // Per-frame scratch, kept to avoid reallocations.
     ProjectedCells projected;
     NearCaps caps;
-    std::vector<ScreenRect> rects;
+    CellFootprints footprints;
     std::vector<std::uint32_t> batch_of;
     std::vector<glm::uvec4> frame_data;
 
@@ -326,8 +326,9 @@ void CellRenderer::Impl::draw_classic(const Camera& camera, const Viewport& view
     build_near_caps(geometry, view, projected, caps);
     const double aspect = double(viewport.width) / double(viewport.height);
     const glm::dmat4 vp = camera.projection_matrix(aspect) * view.view;
-    cell_footprints(mesh, geometry, view, vp, projected, caps, viewport.width, viewport.height, rects);
-    const std::uint32_t batches = batch_footprints(rects, viewport.width, viewport.height, options.batch_tile, batch_of);
+    cell_footprints(mesh, geometry, view, vp, projected, caps, viewport.width, viewport.height, options.batch_tile,
+                    footprints);
+    const std::uint32_t batches = batch_footprints(footprints, batch_of);
 
     // Counting sort of cells by batch, then the caps (as fan triangles) grouped the same way.
     std::vector<std::uint32_t> cell_start(batches + 1, 0), cap_start(batches + 1, 0);
