@@ -75,13 +75,23 @@ struct ContinuousLod::Impl {
     std::uint32_t root = 0;
     double K = 1.0;
 
-    std::vector<float> d2;
-    std::vector<std::uint8_t> state, flags;
-    std::vector<float> fe;                 // f_eff memo, valid when fe_frame == frame
-    std::vector<std::uint32_t> fe_frame;
-    std::vector<std::uint32_t> generation;
-    std::vector<std::int32_t> fan_of;
-    std::vector<float> morph_h, morph_t;   // geomorphed height and thickness per sample
+    // Per-sample data packed so one node (or one vertex) is one cache access: the update walks
+    // the quadtree in a scattered order.
+    struct Node {
+        float d2 = 0.0f;
+        float fe = 0.0f;                 // f_eff memo, valid when fe_frame == frame
+        std::uint32_t fe_frame = 0;
+        std::uint32_t generation = 0;    // bumped when the node is rescheduled or removed
+        std::int32_t fan = kNoFan;
+        std::uint8_t state = 0, flags = 0;
+    };
+    struct Vertex {
+        float true_h = 0.0f, true_t = 0.0f; // the fields' samples
+        float h = 0.0f, t = 0.0f;           // geomorphed height and thickness
+        std::uint32_t local = std::numeric_limits<std::uint32_t>::max(); // extract(): vertex id
+    };
+    std::vector<Node> nodes;
+    mutable std::vector<Vertex> verts;
     std::vector<Fan> fans;
     std::size_t triangles = 0;
     std::size_t live = 0;
@@ -89,7 +99,6 @@ struct ContinuousLod::Impl {
     std::vector<std::uint32_t> morphing, next_morphing;
     std::array<std::vector<std::uint32_t>, kLevels> candidates, vertex_dirty;
     std::vector<std::uint32_t> fan_dirty, touched;
-    mutable std::vector<std::uint32_t> local_index; // extract(): sample → vertex id
 
     std::uint32_t frame = 0;
     double odometer = 0.0;
@@ -107,10 +116,10 @@ struct ContinuousLod::Impl {
         return i > 0 && j > 0 && i < n - 1 && j < n - 1 && (i & -i) == (j & -j);
     }
     int half_size(std::uint32_t s) const { const int i = ix(s); return i & -i; }
-    float true_height(std::uint32_t s) const { return ground.heights[s]; }
-    float true_thickness(std::uint32_t s) const { return layer ? layer->heights[s] : 0.0f; }
+    float true_height(std::uint32_t s) const { return verts[s].true_h; }
+    float true_thickness(std::uint32_t s) const { return verts[s].true_t; }
     glm::dvec3 center_position(std::uint32_t s) const {
-        return {ground.x(ix(s)), ground.y(jy(s)), double(ground.heights[s])};
+        return {ground.x(ix(s)), ground.y(jy(s)), double(verts[s].true_h)};
     }
     // Centre of the parent of node (i, j, h): the odd multiple of 2h among i ± h.
     int parent_coord(int i, int h) const { return ((i - h) / (2 * h)) % 2 == 1 ? i - h : i + h; }
@@ -136,11 +145,11 @@ struct ContinuousLod::Impl {
 
     // ---- refinement ----
     double node_scale(std::uint32_t s, int h) const { // T_N = d·C·max(c·d2, 1)
-        return 2.0 * h * ground.spacing * settings.min_resolution * std::max(c_eff * double(d2[s]), 1.0);
+        return 2.0 * h * ground.spacing * settings.min_resolution * std::max(c_eff * double(nodes[s].d2), 1.0);
     }
     double own_f(std::uint32_t s, int h) const { return glm::length(last_eye - center_position(s)) / node_scale(s, h); }
     double f_eff(std::uint32_t s, int h) {
-        if (fe_frame[s] == frame) return fe[s];
+        if (nodes[s].fe_frame == frame) return nodes[s].fe;
         double f = own_f(s, h);
         ++stats->nodes_evaluated;
         if (s != root) {
@@ -148,21 +157,21 @@ struct ContinuousLod::Impl {
             const int k = required(ix(s), jy(s), h, req);
             for (int q = 0; q < k; ++q) f = std::max(f, f_eff(req[q], 2 * h));
         }
-        fe[s] = float(f);
-        fe_frame[s] = frame;
-        return fe[s];
+        nodes[s].fe = float(f);
+        nodes[s].fe_frame = frame;
+        return nodes[s].fe;
     }
     double blend(std::uint32_t s) const {
-        const std::uint8_t st = state[s];
+        const std::uint8_t st = nodes[s].state;
         if (!(st & kSplit)) return 0.0;
         if (!settings.geomorph || !(st & kMorph)) return 1.0;
-        return std::clamp(2.0 * (1.0 - double(fe[s])), 0.0, 1.0);
+        return std::clamp(2.0 * (1.0 - double(nodes[s].fe)), 0.0, 1.0);
     }
 
     void mark(std::uint32_t s, std::uint8_t flag) {
-        if (!flags[s]) touched.push_back(s);
-        if (flags[s] & flag) return;
-        flags[s] |= flag;
+        if (!nodes[s].flags) touched.push_back(s);
+        if (nodes[s].flags & flag) return;
+        nodes[s].flags |= flag;
         if (flag == kFanDirty) fan_dirty.push_back(s);
         if (flag == kVertexDirty) vertex_dirty[level_of(half_size(s))].push_back(s);
         if (flag == kCandidate) candidates[level_of(half_size(s))].push_back(s);
@@ -170,44 +179,44 @@ struct ContinuousLod::Impl {
     void mark_neighbours_changed(int i, int j, int h) {
         for (int side = 0; side < 4; ++side) {
             std::uint32_t m;
-            if (!neighbour(i, j, h, side, m) || !(state[m] & kLive)) continue;
+            if (!neighbour(i, j, h, side, m) || !(nodes[m].state & kLive)) continue;
             mark(m, kFanDirty);
-            if (state[m] & kSplit) mark(m, kVertexDirty); // the shared midpoint's blend changed
+            if (nodes[m].state & kSplit) mark(m, kVertexDirty); // the shared midpoint's blend changed
         }
     }
 
     void schedule(std::uint32_t s, int h, double f) {
-        const bool split = state[s] & kSplit;
+        const bool split = nodes[s].state & kSplit;
         if (split && settings.geomorph && f > 0.5) {
-            state[s] |= kMorph;
+            nodes[s].state |= kMorph;
             next_morphing.push_back(s);
-            ++generation[s]; // no wake-up needed: looked at every frame
+            ++nodes[s].generation; // no wake-up needed: looked at every frame
             return;
         }
-        state[s] &= std::uint8_t(~kMorph);
+        nodes[s].state &= std::uint8_t(~kMorph);
         const double margin = split ? (settings.geomorph ? 0.5 - f : 1.0 - f) : f - 1.0;
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
         const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
-        wakes.push(Wake{odometer + travel, s, ++generation[s]});
+        wakes.push(Wake{odometer + travel, s, ++nodes[s].generation});
     }
 
     void evaluate(std::uint32_t s, int h) {
-        if (flags[s] & kEvaluated) return;
+        if (nodes[s].flags & kEvaluated) return;
         mark(s, kEvaluated);
         ++stats->nodes_examined;
-        const std::uint8_t before = state[s];
+        const std::uint8_t before = nodes[s].state;
         const double f = f_eff(s, h);
         if (f > own_f(s, h) * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
         const bool want = f < 1.0;
         if (want && !(before & kSplit)) split(s, h);
         else if (!want && (before & kSplit)) merge(s, h);
         schedule(s, h, f);
-        if ((before & (kMorph | kSplit)) != (state[s] & (kMorph | kSplit)) || (state[s] & kMorph))
+        if ((before & (kMorph | kSplit)) != (nodes[s].state & (kMorph | kSplit)) || (nodes[s].state & kMorph))
             mark(s, kVertexDirty);
     }
 
     void split(std::uint32_t s, int h) {
-        state[s] |= kSplit;
+        nodes[s].state |= kSplit;
         ++stats->splits;
         const int i = ix(s), j = jy(s);
         mark(s, kFanDirty);
@@ -216,7 +225,7 @@ struct ContinuousLod::Impl {
         const int q = h / 2;
         for (int c = 0; c < 4; ++c) {
             const std::uint32_t child = id(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q));
-            state[child] = kLive;
+            nodes[child].state = kLive;
             ++live;
             mark(child, kFanDirty);
             evaluate(child, q);
@@ -224,7 +233,7 @@ struct ContinuousLod::Impl {
     }
 
     void merge(std::uint32_t s, int h) {
-        state[s] &= std::uint8_t(~(kSplit | kMorph));
+        nodes[s].state &= std::uint8_t(~(kSplit | kMorph));
         ++stats->merges;
         const int i = ix(s), j = jy(s);
         if (h >= 2) {
@@ -237,16 +246,16 @@ struct ContinuousLod::Impl {
 
     // Drops a live node and its subtree (its parent merged or the tree is rebuilt).
     void remove(std::uint32_t s, int h) {
-        if (!(state[s] & kLive)) return;
+        if (!(nodes[s].state & kLive)) return;
         const int i = ix(s), j = jy(s);
-        if ((state[s] & kSplit) && h >= 2) {
+        if ((nodes[s].state & kSplit) && h >= 2) {
             const int q = h / 2;
             for (int c = 0; c < 4; ++c) remove(id(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q)), q);
         }
-        const bool was_split = state[s] & kSplit;
-        state[s] = 0;
+        const bool was_split = nodes[s].state & kSplit;
+        nodes[s].state = 0;
         --live;
-        ++generation[s];
+        ++nodes[s].generation;
         drop_fan(s);
         if (was_split) mark_neighbours_changed(i, j, h);
     }
@@ -254,8 +263,8 @@ struct ContinuousLod::Impl {
     // ---- geomorphing ----
     void morph_vertex(std::uint32_t v, std::uint32_t a, std::uint32_t b, double w) {
         // (1 − w)·coarse + w·true: exactly the true value at w = 1, the coarse one at w = 0.
-        morph_h[v] = float((1.0 - w) * 0.5 * (double(morph_h[a]) + morph_h[b]) + w * true_height(v));
-        if (layer) morph_t[v] = float((1.0 - w) * 0.5 * (double(morph_t[a]) + morph_t[b]) + w * true_thickness(v));
+        verts[v].h = float((1.0 - w) * 0.5 * (double(verts[a].h) + verts[b].h) + w * true_height(v));
+        if (layer) verts[v].t = float((1.0 - w) * 0.5 * (double(verts[a].t) + verts[b].t) + w * true_thickness(v));
         if (w > 0.0 && w < 1.0) ++stats->vertices_morphed;
     }
     void update_vertices(std::uint32_t s) {
@@ -267,7 +276,7 @@ struct ContinuousLod::Impl {
             const std::uint32_t ka = id(i + ci[a] * h, j + cj[a] * h), kc = id(i + ci[c] * h, j + cj[c] * h);
             const std::uint32_t m = id((ix(ka) + ix(kc)) / 2, (jy(ka) + jy(kc)) / 2);
             std::uint32_t other;
-            const double bo = neighbour(i, j, h, side, other) && (state[other] & kLive) ? blend(other) : 0.0;
+            const double bo = neighbour(i, j, h, side, other) && (nodes[other].state & kLive) ? blend(other) : 0.0;
             morph_vertex(m, ka, kc, std::max(b, bo));
         }
         if (h < 2 || b <= 0.0) return;
@@ -279,16 +288,16 @@ struct ContinuousLod::Impl {
 
     // ---- fans ----
     void drop_fan(std::uint32_t s) {
-        const std::int32_t f = fan_of[s];
+        const std::int32_t f = nodes[s].fan;
         if (f == kNoFan) return;
         triangles -= fans[f].count;
         fans[f] = fans.back();
-        fan_of[fans[f].node] = f;
+        nodes[fans[f].node].fan = f;
         fans.pop_back();
-        fan_of[s] = kNoFan;
+        nodes[s].fan = kNoFan;
     }
     void rebuild_fan(std::uint32_t s) {
-        const std::uint8_t st = state[s];
+        const std::uint8_t st = nodes[s].state;
         const int h = half_size(s);
         const bool drawn = (st & kLive) && (!(st & kSplit) || h == 1);
         if (!drawn) {
@@ -302,19 +311,19 @@ struct ContinuousLod::Impl {
             fan.ring[fan.count++] = id(i + ci[side] * h, j + cj[side] * h);
             std::uint32_t other;
             const bool midpoint = (h == 1 && (st & kSplit)) ||
-                                  (neighbour(i, j, h, side, other) && (state[other] & kLive) && (state[other] & kSplit));
+                                  (neighbour(i, j, h, side, other) && (nodes[other].state & kLive) && (nodes[other].state & kSplit));
             if (midpoint) {
                 const int c = (side + 1) % 4;
                 fan.ring[fan.count++] = id(i + (ci[side] + ci[c]) * h / 2, j + (cj[side] + cj[c]) * h / 2);
             }
         }
         ++stats->fans_rebuilt;
-        if (fan_of[s] == kNoFan) {
-            fan_of[s] = std::int32_t(fans.size());
+        if (nodes[s].fan == kNoFan) {
+            nodes[s].fan = std::int32_t(fans.size());
             fans.push_back(fan);
         } else {
-            triangles -= fans[fan_of[s]].count;
-            fans[fan_of[s]] = fan;
+            triangles -= fans[nodes[s].fan].count;
+            fans[nodes[s].fan] = fan;
         }
         triangles += fan.count;
     }
@@ -324,13 +333,13 @@ struct ContinuousLod::Impl {
         for (int l = kLevels - 1; l >= 0; --l) {
             for (std::size_t k = 0; k < vertex_dirty[l].size(); ++k) {
                 const std::uint32_t s = vertex_dirty[l][k];
-                if (state[s] & kLive) update_vertices(s);
+                if (nodes[s].state & kLive) update_vertices(s);
             }
             vertex_dirty[l].clear();
         }
         for (std::uint32_t s : fan_dirty) rebuild_fan(s);
         fan_dirty.clear();
-        for (std::uint32_t s : touched) flags[s] = 0;
+        for (std::uint32_t s : touched) nodes[s].flags = 0;
         touched.clear();
         morphing.swap(next_morphing);
         next_morphing.clear();
@@ -344,7 +353,7 @@ struct ContinuousLod::Impl {
         odometer = 0.0;
         ++frame;
         stats->full_rebuild = true;
-        state[root] = kLive;
+        nodes[root].state = kLive;
         ++live;
         mark(root, kFanDirty);
         evaluate(root, root_h);
@@ -358,18 +367,18 @@ struct ContinuousLod::Impl {
         while (!wakes.empty() && wakes.top().at <= odometer) {
             const Wake w = wakes.top();
             wakes.pop();
-            if (w.generation == generation[w.node] && (state[w.node] & kLive) && !(flags[w.node] & kCandidate)) {
+            if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive) && !(nodes[w.node].flags & kCandidate)) {
                 mark(w.node, kCandidate);
                 ++stats->nodes_woken;
             }
         }
         for (std::uint32_t s : morphing)
-            if (state[s] & kLive) mark(s, kCandidate);
+            if (nodes[s].state & kLive) mark(s, kCandidate);
         for (int l = kLevels - 1; l >= 0; --l) {
             // evaluate() may split and append finer candidates' children; index, do not iterate.
             for (std::size_t k = 0; k < candidates[l].size(); ++k) {
                 const std::uint32_t s = candidates[l][k];
-                if (state[s] & kLive) evaluate(s, 1 << l);
+                if (nodes[s].state & kLive) evaluate(s, 1 << l);
             }
             candidates[l].clear();
         }
@@ -379,7 +388,7 @@ struct ContinuousLod::Impl {
             while (!wakes.empty()) {
                 const Wake w = wakes.top();
                 wakes.pop();
-                if (w.generation == generation[w.node] && (state[w.node] & kLive)) keep.push_back(w);
+                if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive)) keep.push_back(w);
             }
             wakes = std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>(std::greater<Wake>(),
                                                                                       std::move(keep));
@@ -411,16 +420,12 @@ struct ContinuousLod::Impl {
         root = id(root_h, root_h);
         K = s.min_resolution / (2.0 * (s.min_resolution - 1.0));
         const std::size_t count = std::size_t(n) * std::size_t(n);
-        d2.assign(count, 0.0f);
-        state.assign(count, 0);
-        flags.assign(count, 0);
-        fe.assign(count, 0.0f);
-        fe_frame.assign(count, 0);
-        generation.assign(count, 0);
-        fan_of.assign(count, kNoFan);
-        morph_h = ground.heights;
-        morph_t = layer ? layer->heights : std::vector<float>();
-        local_index.assign(count, std::numeric_limits<std::uint32_t>::max());
+        nodes.assign(count, Node{});
+        verts.assign(count, Vertex{});
+        for (std::size_t k = 0; k < count; ++k) {
+            verts[k].true_h = verts[k].h = ground.heights[k];
+            verts[k].true_t = verts[k].t = layer ? layer->heights[k] : 0.0f;
+        }
         compute_roughness();
     }
 
@@ -449,12 +454,12 @@ struct ContinuousLod::Impl {
                         e = std::max({e, error_at(*z, ms, sw, se), error_at(*z, me, se, ne), error_at(*z, mn, ne, nw),
                                       error_at(*z, mw, nw, sw), error_at(*z, s, sw, ne), error_at(*z, s, se, nw)});
                     }
-                    double r = std::max(double(d2[s]), e / (2.0 * h * spacing));
-                    d2[s] = float(r);
+                    double r = std::max(double(nodes[s].d2), e / (2.0 * h * spacing));
+                    nodes[s].d2 = float(r);
                     if (h == root_h) continue;
                     std::uint32_t req[3];
                     const int k = required(i, j, h, req);
-                    for (int q = 0; q < k; ++q) d2[req[q]] = std::max(d2[req[q]], float(K * r));
+                    for (int q = 0; q < k; ++q) nodes[req[q]].d2 = std::max(nodes[req[q]].d2, float(K * r));
                 }
             }
         }
@@ -543,13 +548,12 @@ void ContinuousLod::reset() {
     m.remove(m.root, m.root_h);
     for (std::uint32_t s : m.fan_dirty) m.rebuild_fan(s);
     m.fan_dirty.clear();
-    for (std::uint32_t s : m.touched) m.flags[s] = 0;
+    for (std::uint32_t s : m.touched) m.nodes[s].flags = 0;
     m.touched.clear();
     for (auto& v : m.vertex_dirty) v.clear();
     std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>().swap(m.wakes);
     m.morphing.clear();
-    m.morph_h = m.ground.heights;
-    if (m.layer) m.morph_t = m.layer->heights;
+    for (Impl::Vertex& v : m.verts) v.h = v.true_h, v.t = v.true_t;
     m.have_state = false;
     m.stats = nullptr;
 }
@@ -558,23 +562,22 @@ void ContinuousLod::extract(LodMesh& out) const {
     const Impl& m = *impl_;
     out.clear();
     out.triangles.reserve(m.triangles);
-    std::vector<std::uint32_t>& map = m.local_index;
     auto local = [&](std::uint32_t s) {
-        std::uint32_t& v = map[s];
-        if (v == std::numeric_limits<std::uint32_t>::max()) {
-            v = std::uint32_t(out.grid_index.size());
+        Impl::Vertex& vertex = m.verts[s];
+        if (vertex.local == std::numeric_limits<std::uint32_t>::max()) {
+            vertex.local = std::uint32_t(out.grid_index.size());
             out.grid_index.push_back(s);
-            out.positions.emplace_back(m.ground.x(m.ix(s)), m.ground.y(m.jy(s)), double(m.morph_h[s]));
-            out.thickness.push_back(m.layer ? std::max(m.morph_t[s], 0.0f) : 0.0f);
+            out.positions.emplace_back(m.ground.x(m.ix(s)), m.ground.y(m.jy(s)), double(vertex.h));
+            out.thickness.push_back(std::max(vertex.t, 0.0f));
         }
-        return v;
+        return vertex.local;
     };
     for (const Fan& f : m.fans) {
         const std::uint32_t c = local(f.node);
         for (std::uint32_t k = 0; k < f.count; ++k)
             out.triangles.push_back({c, local(f.ring[k]), local(f.ring[(k + 1) % f.count])});
     }
-    for (std::uint32_t s : out.grid_index) map[s] = std::numeric_limits<std::uint32_t>::max();
+    for (std::uint32_t s : out.grid_index) m.verts[s].local = std::numeric_limits<std::uint32_t>::max();
 }
 
 LodMesh ContinuousLod::mesh() const {
@@ -594,23 +597,21 @@ const LodSettings& ContinuousLod::settings() const { return impl_->settings; }
 
 std::size_t ContinuousLod::memory_bytes() const {
     const Impl& m = *impl_;
-    const std::size_t count = m.d2.size();
-    std::size_t bytes = count * (sizeof(float) * 2 /*ground, d2*/ + 2 /*state, flags*/ + sizeof(float) /*fe*/ +
-                                 sizeof(std::uint32_t) * 3 /*fe_frame, generation, local_index*/ +
-                                 sizeof(std::int32_t) /*fan_of*/ + sizeof(float) /*morph_h*/);
-    if (m.layer) bytes += count * sizeof(float) * 2;
+    const std::size_t count = m.nodes.size();
+    std::size_t bytes = count * (sizeof(Impl::Node) + sizeof(Impl::Vertex) + sizeof(float) /*ground copy*/);
+    if (m.layer) bytes += count * sizeof(float);
     bytes += m.fans.capacity() * sizeof(Fan) + m.wakes.size() * sizeof(Wake);
     return bytes;
 }
 
 bool ContinuousLod::is_node_center(int i, int j) const { return impl_->center(i, j); }
 bool ContinuousLod::is_split(int i, int j) const {
-    return impl_->center(i, j) && (impl_->state[impl_->id(i, j)] & kSplit);
+    return impl_->center(i, j) && (impl_->nodes[impl_->id(i, j)].state & kSplit);
 }
-double ContinuousLod::roughness(int i, int j) const { return impl_->center(i, j) ? impl_->d2[impl_->id(i, j)] : 0.0; }
-float ContinuousLod::morphed_height(int i, int j) const { return impl_->morph_h[impl_->id(i, j)]; }
+double ContinuousLod::roughness(int i, int j) const { return impl_->center(i, j) ? impl_->nodes[impl_->id(i, j)].d2 : 0.0; }
+float ContinuousLod::morphed_height(int i, int j) const { return impl_->verts[impl_->id(i, j)].h; }
 float ContinuousLod::morphed_thickness(int i, int j) const {
-    return impl_->layer ? impl_->morph_t[impl_->id(i, j)] : 0.0f;
+    return impl_->layer ? impl_->verts[impl_->id(i, j)].t : 0.0f;
 }
 
 } // namespace terrain
