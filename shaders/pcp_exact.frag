@@ -14,6 +14,7 @@
 layout(location = 0) in vec3 v_position;
 layout(location = 1) in float v_scalar;
 layout(location = 2) flat in uint v_cell;
+layout(location = 6) flat in vec2 v_scalar_bounds;
 
 layout(location = 0) out vec4 o_color;
 
@@ -32,7 +33,7 @@ vec3 entry_barycentric(uint t, vec3 q) {
 void main() {
     Ray ray = pixel_ray(v_position);
     float t_exit = dot(v_position - ray.origin, ray.dir);
-    float s_exit = v_scalar;
+    float s_exit = clamp(v_scalar, v_scalar_bounds.x, v_scalar_bounds.y); // see project.vert
 
     // Entry: for a convex cell, the last front-facing plane the ray crosses. Ties (the two
     // triangles of a planar quad) and slightly non-convex cells (curvilinear grids, whose quads

@@ -3,9 +3,10 @@
 // Draws a LodMesh (ContinuousLod::extract) as opaque triangles coloured by height (a ramp over
 // the field's height range) and lit by a sun (Lambert + ambient), with normals from the full-
 // resolution field (so shading does not change as the LOD refines). Depth is tested (GL_LESS)
-// and written, pushed back by a polygon offset of a couple of depth units so that fog prisms
-// sharing the ground's vertices are not cut short when a render path clamps to this depth
-// (fx::CellRenderOptions::scene_depth).
+// and written, with no polygon offset: fog prisms share the ground's vertices, so a render path
+// clamping to this depth (fx::CellRenderOptions::scene_depth) ends their rays at the ground to
+// within a depth-buffer step, and an offset (which grows with the slope) would let fog behind a
+// ridge show through at its silhouette.
 //
 // Ownership: owns its programs, buffers and the normal texture (move-only; destroy it while its
 // context is current). Preconditions: a GL 4.5 core context current for every call; draw()

@@ -153,8 +153,6 @@ SurfaceStats SurfaceRenderer::draw(const LodMesh& mesh, const fx::Camera& camera
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
         glDepthMask(GL_TRUE);
-        glEnable(GL_POLYGON_OFFSET_FILL);
-        glPolygonOffset(1.0f, 2.0f);
         glUseProgram(p);
         glBindVertexArray(m.vao.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.vertices.id());
