@@ -67,7 +67,7 @@ TEST_CASE("LOD tiles the field without cracks or T-junctions", "[terrain][lod]")
     }
 }
 
-TEST_CASE("LOD at a tiny error bound uses every sample; at a huge one only the C term", "[terrain][lod]") {
+TEST_CASE("LOD at a tiny error bound uses every sample and at a huge one only the C term", "[terrain][lod]") {
     const terrain::HeightField field = terrain_test::hills(65);
     ContinuousLod lod(field);
     lod.update(view_at({320, 320, 50}, 1e-6));
@@ -145,7 +145,7 @@ TEST_CASE("Incremental updates give exactly what a rebuild gives", "[terrain][lo
     }
 }
 
-TEST_CASE("A still eye costs nothing; a small step costs little", "[terrain][lod]") {
+TEST_CASE("A still eye costs nothing and a small step costs little", "[terrain][lod]") {
     const terrain::HeightField field = terrain_test::hills(257, 5.0);
     ContinuousLod lod(field);
     const terrain::LodStats first = lod.update(view_at({600, 640, 80}, 1.0));

@@ -110,7 +110,7 @@ TEST_CASE("A fog map file on the terrain's grid, and noise density", "[terrain][
     CHECK(v == s.fog->prisms.noise(1234.0, 987.0)); // deterministic
 }
 
-TEST_CASE("Scenes render; only what they declare is built", "[gl][terrain][scene]") {
+TEST_CASE("Scenes render and only what they declare is built", "[gl][terrain][scene]") {
     fx_test::gl_context();
     terrain::Scene with_fog = parse(small_scene("", kFog));
     terrain::Scene without = parse(small_scene());
