@@ -372,6 +372,7 @@ TEST_CASE("The terrain's depth is the LOD surface's, and fog dims the terrain be
             }
         }
     }
+    WARN("terrain depth checked at " << hits << " pixels, " << off << " off");
     CHECK(hits > 150);
     CHECK(off == 0);
 }
