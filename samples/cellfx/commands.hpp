@@ -22,4 +22,7 @@ int bench_pcp(const std::vector<std::string>& args);
 // `cellfx bench terrain`: continuous LOD, pixels changed, fog valley fps (Roettger et al. 1998, §5).
 int bench_terrain(const std::vector<std::string>& args);
 
+// `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
+int bench_sort(const std::vector<std::string>& args);
+
 } // namespace cellfx_cli
