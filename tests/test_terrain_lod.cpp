@@ -19,7 +19,7 @@ using terrain::LodView;
 LodView view_at(glm::dvec3 eye, double pixel_error = 2.0) {
     LodView v;
     v.eye = eye;
-    v.projection_scale = 768.0 / (2.0 * std::tan(25.0 * M_PI / 180.0)); // 1024x768, 50° fov
+    v.projection_scale = 768.0 / (2.0 * std::tan(25.0 * 3.14159265358979 / 180.0)); // 1024x768, 50° fov
     v.pixel_error = pixel_error;
     return v;
 }

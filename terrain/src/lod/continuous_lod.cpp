@@ -13,6 +13,7 @@
 #include <queue>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
 
@@ -61,7 +62,7 @@ LodView LodView::from_camera(const fx::Camera& camera, int viewport_height, doub
         const double distance = glm::length(camera.target - camera.eye);
         view.projection_scale = viewport_height / camera.ortho_height * std::max(distance, 1e-9);
     } else {
-        view.projection_scale = viewport_height / (2.0 * std::tan(0.5 * camera.fov_y_degrees * M_PI / 180.0));
+        view.projection_scale = viewport_height / (2.0 * std::tan(0.5 * glm::radians(camera.fov_y_degrees)));
     }
     return view;
 }
