@@ -6,6 +6,8 @@
 #include <fstream>
 
 #include "fx/error.hpp"
+#include "gl/render_target.hpp"
+#include "gl/state_guard.hpp"
 #include "gl_fixture.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
@@ -165,4 +167,29 @@ TEST_CASE("The shipped fog valley and aurora render", "[gl][terrain][scene]") {
         }
         CHECK(light > 10.0);
     }
+}
+
+TEST_CASE("SceneRenderer draws into the host's framebuffer and viewport", "[gl][terrain][scene]") {
+    fx_test::gl_context();
+    terrain::Scene scene = parse(small_scene("", kFog));
+    terrain::SceneRenderer renderer(scene);
+    const fx::Image alone = renderer.render_to_image(scene.camera, 64, 48);
+    // A host target larger than the viewport, cleared to a marker colour.
+    fx::gl::RenderTarget host = fx::gl::RenderTarget::create(100, 80, fx::gl::ColorFormat::RGBA32F, false);
+    const glm::vec4 marker(0.25f, 0.5f, 0.75f, 1.0f);
+    {
+        fx::gl::StateGuard guard;
+        fx::gl::StateGuard::set_render_defaults();
+        host.clear(marker);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host.framebuffer());
+        renderer.render(scene.camera, fx::Viewport{20, 10, 64, 48});
+    }
+    fx_test::require_no_gl_error();
+    const fx::Image frame = host.read();
+    float worst = 0.0f;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) worst = std::max(worst, glm::length(frame.at(20 + x, 10 + y) - alone.at(x, y)));
+    CHECK(worst < 1e-5f);                 // the same frame, in the viewport
+    CHECK(frame.at(5, 5) == marker);      // outside it the host's pixels are untouched
+    CHECK(frame.at(90, 70) == marker);
 }

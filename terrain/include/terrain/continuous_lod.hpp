@@ -33,7 +33,7 @@
 // every frame. Changing the error bound, the view's scale or (through the triangle budget) c
 // rebuilds from the root, which costs the size of the output.
 //
-// Ownership: ContinuousLod owns copies of its fields and all LOD state (about 45 bytes per
+// Ownership: ContinuousLod owns copies of its fields and all LOD state (52 bytes per
 // sample). Not thread-safe; one update() at a time.
 #pragma once
 
