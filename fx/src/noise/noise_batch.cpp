@@ -137,6 +137,18 @@ void fill_staged(const FractalPlan& plan, const Point& point, std::size_t count,
     }
 }
 
+// Calls row_fn(index, out_row) for every row of the grid (x fastest, so a row is count[0]
+// consecutive samples); index[0] is 0 and the other entries give the row's position.
+template <int N, class RowFn> void for_each_row(const std::size_t (&count)[N], float* out, const RowFn& row_fn) {
+    std::size_t index[N] = {};
+    std::size_t rows = 1;
+    for (int a = 1; a < N; ++a) rows *= count[a];
+    for (std::size_t row = 0; row < rows; ++row) {
+        row_fn(index, out + row * count[0]);
+        for (int a = 1; a < N && ++index[a] == count[a]; ++a) index[a] = 0;
+    }
+}
+
 // Perlin on a grid: the axes are separable, so each axis is split once per octave into a table
 // (cell·prime, offset, fade) and the rows combine table entries (x in lanes, the rest broadcast).
 struct AxisTable {
@@ -166,17 +178,8 @@ void fill_perlin_grid(const FractalPlan& plan, const double (&origin)[N], const 
             }
         }
 
-    std::size_t rows = 1;
-    for (int a = 1; a < N; ++a) rows *= count[a];
     Block b;
-    for (std::size_t row = 0; row < rows; ++row) {
-        std::size_t index[N] = {};
-        std::size_t rest = row;
-        for (int a = 1; a < N; ++a) {
-            index[a] = rest % count[a];
-            rest /= count[a];
-        }
-        float* row_out = out + row * count[0];
+    for_each_row<N>(count, out, [&](const std::size_t (&index)[N], float* row_out) {
         for (std::size_t start = 0; start < count[0]; start += kBlock) {
             const std::size_t n = std::min(kBlock, count[0] - start);
             for (int o = 0; o < plan.octaves; ++o) {
@@ -196,7 +199,35 @@ void fill_perlin_grid(const FractalPlan& plan, const double (&origin)[N], const 
             }
             b.finish_to(row_out + start, n);
         }
+    });
+}
+
+// Simplex on a grid: the skew mixes the axes, so samples are split one by one, but the
+// coordinates come from per-axis tables, a row at a time.
+template <int N>
+void fill_simplex_grid(const FractalPlan& plan, const double (&origin)[N], const double (&step)[N],
+                       const std::size_t (&count)[N], float* out) {
+    std::vector<double> coordinate[N];
+    for (int a = 0; a < N; ++a) {
+        coordinate[a].resize(count[a]);
+        for (std::size_t i = 0; i < count[a]; ++i) coordinate[a][i] = origin[a] + step[a] * static_cast<double>(i);
     }
+    Block b;
+    Staged<N> st;
+    for_each_row<N>(count, out, [&](const std::size_t (&index)[N], float* row_out) {
+        for (std::size_t start = 0; start < count[0]; start += kBlock) {
+            const std::size_t n = std::min(kBlock, count[0] - start);
+            const auto point = [&](std::size_t i, double (&p)[N]) {
+                p[0] = coordinate[0][start + i];
+                for (int a = 1; a < N; ++a) p[a] = coordinate[a][index[a]];
+            };
+            for (int o = 0; o < plan.octaves; ++o) {
+                stage<N>(plan, o, point, n, st);
+                evaluate_staged<N>(plan, o, st, n, b);
+            }
+            b.finish_to(row_out + start, n);
+        }
+    });
 }
 
 template <int N>
@@ -212,20 +243,8 @@ void fill_grid(const char* where, const Noise& noise, const Fractal& fractal, co
     if (total == 0) return;
     if (out == nullptr) throw Error(std::string(where) + "out is null");
     const FractalPlan plan = make_plan(fractal, noise.seed());
-    if (plan.basis == NoiseBasis::perlin) {
-        fill_perlin_grid<N>(plan, origin, step, count, out);
-        return;
-    }
-    // Simplex mixes the axes (skew), so it splits per sample like a point list.
-    const auto point = [&](std::size_t i, double (&p)[N]) {
-        std::size_t rest = i;
-        for (int a = 0; a < N; ++a) {
-            const std::size_t k = rest % count[a];
-            rest /= count[a];
-            p[a] = origin[a] + step[a] * static_cast<double>(k);
-        }
-    };
-    fill_staged<N>(plan, point, total, out);
+    if (plan.basis == NoiseBasis::perlin) fill_perlin_grid<N>(plan, origin, step, count, out);
+    else fill_simplex_grid<N>(plan, origin, step, count, out);
 }
 
 template <int N, class Vec>
