@@ -16,23 +16,6 @@ namespace fx {
 namespace noise_detail {
 namespace {
 
-using Axis = PerlinAxis<F1, U1>;
-
-Axis perlin_axis(double x, std::uint32_t prime) {
-    const PerlinSplit s = perlin_split(x, prime);
-    return {s.cell, s.t, fade(s.t)};
-}
-
-template <int N> SimplexSample<F1, U1, N> simplex_sample(const double (&p)[N], double skew, double unskew) {
-    const SimplexSplit<N> s = simplex_split<N>(p, skew, unskew);
-    SimplexSample<F1, U1, N> out;
-    for (int a = 0; a < N; ++a) {
-        out.cell[a] = s.cell[a];
-        out.d[a] = s.d[a];
-    }
-    return out;
-}
-
 std::string number(double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.17g", v);
@@ -140,15 +123,15 @@ float perlin4_at(std::uint32_t key, double x, double y, double z, double w) {
 }
 float simplex2_at(std::uint32_t key, double x, double y) {
     const double p[2] = {x, y};
-    return simplex2<F1, U1>(key, simplex_sample<2>(p, kF2, kG2));
+    return simplex2<F1, U1>(key, simplex_sample<2, D1>(p, kF2, kG2));
 }
 float simplex3_at(std::uint32_t key, double x, double y, double z) {
     const double p[3] = {x, y, z};
-    return simplex3<F1, U1>(key, simplex_sample<3>(p, kF3, kG3));
+    return simplex3<F1, U1>(key, simplex_sample<3, D1>(p, kF3, kG3));
 }
 float simplex4_at(std::uint32_t key, double x, double y, double z, double w) {
     const double p[4] = {x, y, z, w};
-    return simplex4<F1, U1>(key, simplex_sample<4>(p, kF4, kG4));
+    return simplex4<F1, U1>(key, simplex_sample<4, D1>(p, kF4, kG4));
 }
 
 } // namespace noise_detail

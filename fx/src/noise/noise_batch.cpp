@@ -5,6 +5,10 @@
 // split in double (per sample, or once per grid axis for Perlin grids, whose axes are separable),
 // the vector kernel evaluates them, and the octave is added to the block's running sum. Every
 // lane does exactly the operations of the scalar path, so the results are the scalar ones.
+// The coordinate split runs in double lanes (two SSE2 registers per four samples), the kernels
+// in float lanes.
+#define FX_NOISE_BATCH 1 // the double vector lanes of noise_kernels.hpp
+
 #include <algorithm>
 #include <limits>
 #include <string>
@@ -25,9 +29,12 @@ static_assert(kBlock % kLanes == 0, "a block is whole vectors");
 inline VecF load_lanes(const float* p) { return load_f(p); }
 inline VecU load_lanes(const std::uint32_t* p) { return load_u(p); }
 inline void store_lanes(float* p, VecF v) { store_f(p, v); }
+inline VecD load_lanes(const double* p) { return load_d(p); }
 #else
+using VecD = D1;
 inline VecF load_lanes(const float* p) { return *p; }
 inline VecU load_lanes(const std::uint32_t* p) { return *p; }
+inline VecD load_lanes(const double* p) { return *p; }
 inline void store_lanes(float* p, VecF v) { *p = v; }
 #endif
 
@@ -63,77 +70,34 @@ struct Block {
     }
 };
 
-// Inputs of one octave of one block, split per sample (SoA; lanes past the block's end are 0).
-template <int N> struct Staged {
-    alignas(64) std::uint32_t cell[N][kBlock];
-    alignas(64) float d[N][kBlock];
+// The coordinates of one block's samples, per axis (lanes past the block's end are 0).
+template <int N> struct Coordinates {
+    alignas(64) double x[N][kBlock];
+
+    void pad(std::size_t n) {
+        for (std::size_t i = n; i < (n + kLanes - 1) / kLanes * kLanes; ++i)
+            for (int a = 0; a < N; ++a) x[a][i] = 0.0;
+    }
 };
 
-// Split octave o of n samples (coordinates from point(i, p), scaled as fractal_sum does).
-template <int N, class Point> void stage(const FractalPlan& plan, int o, const Point& point, std::size_t n, Staged<N>& st) {
-    for (std::size_t i = 0; i < n; ++i) {
-        double p[N];
-        point(i, p);
-        for (int a = 0; a < N; ++a) p[a] = octave_coordinate(p[a], plan, o);
-        if (plan.basis == NoiseBasis::perlin) {
-            for (int a = 0; a < N; ++a) {
-                const PerlinSplit s = perlin_split(p[a], kPrimes[a]);
-                st.cell[a][i] = s.cell;
-                st.d[a][i] = s.t;
+// Every octave of a block into its running sums: split in double lanes (scaled as fractal_sum
+// does), then the kernel in float lanes.
+template <int N> void evaluate_block(const FractalPlan& plan, const Coordinates<N>& c, std::size_t n, Block& b) {
+    for (int o = 0; o < plan.octaves; ++o) {
+        const VecU key = splat_u(VecU{}, plan.key[o]);
+        for (std::size_t i = 0; i < n; i += kLanes) {
+            VecD q[N];
+            for (int a = 0; a < N; ++a) q[a] = octave_coordinate(load_lanes(c.x[a] + i), plan, o);
+            VecF v;
+            if (plan.basis == NoiseBasis::perlin) {
+                VAxis ax[N];
+                for (int a = 0; a < N; ++a) ax[a] = perlin_axis(q[a], kPrimes[a]);
+                v = perlin_lanes<N>(key, ax);
+            } else {
+                v = simplex_lanes<N>(key, simplex_sample<N>(q, skew<N>(), unskew<N>()));
             }
-        } else {
-            const SimplexSplit<N> s = simplex_split<N>(p, skew<N>(), unskew<N>());
-            for (int a = 0; a < N; ++a) {
-                st.cell[a][i] = s.cell[a];
-                st.d[a][i] = s.d[a];
-            }
+            b.add(plan, o, i, v);
         }
-    }
-    const std::size_t padded = (n + kLanes - 1) / kLanes * kLanes;
-    for (std::size_t i = n; i < padded; ++i)
-        for (int a = 0; a < N; ++a) {
-            st.cell[a][i] = 0;
-            st.d[a][i] = 0.0f;
-        }
-}
-
-// One octave of a staged block into the running sums.
-template <int N> void evaluate_staged(const FractalPlan& plan, int o, const Staged<N>& st, std::size_t n, Block& b) {
-    const VecU key = splat_u(VecU{}, plan.key[o]);
-    for (std::size_t i = 0; i < n; i += kLanes) {
-        VecF v;
-        if (plan.basis == NoiseBasis::perlin) {
-            VAxis ax[N];
-            for (int a = 0; a < N; ++a) {
-                const VecF t = load_lanes(st.d[a] + i);
-                ax[a] = {load_lanes(st.cell[a] + i), t, fade(t)};
-            }
-            v = perlin_lanes<N>(key, ax);
-        } else {
-            SimplexSample<VecF, VecU, N> s;
-            for (int a = 0; a < N; ++a) {
-                s.cell[a] = load_lanes(st.cell[a] + i);
-                s.d[a] = load_lanes(st.d[a] + i);
-            }
-            v = simplex_lanes<N>(key, s);
-        }
-        b.add(plan, o, i, v);
-    }
-}
-
-// Any list of samples: point(i, p) writes sample i's coordinates (before frequency scaling).
-template <int N, class Point>
-void fill_staged(const FractalPlan& plan, const Point& point, std::size_t count, float* out) {
-    Block b;
-    Staged<N> st;
-    for (std::size_t start = 0; start < count; start += kBlock) {
-        const std::size_t n = std::min(kBlock, count - start);
-        const auto block_point = [&](std::size_t i, double (&p)[N]) { point(start + i, p); };
-        for (int o = 0; o < plan.octaves; ++o) {
-            stage<N>(plan, o, block_point, n, st);
-            evaluate_staged<N>(plan, o, st, n, b);
-        }
-        b.finish_to(out + start, n);
     }
 }
 
@@ -171,10 +135,10 @@ void fill_perlin_grid(const FractalPlan& plan, const double (&origin)[N], const 
             table.fade.assign(n, 0.0f);
             for (std::size_t i = 0; i < count[a]; ++i) {
                 const double x = origin[a] + step[a] * static_cast<double>(i);
-                const PerlinSplit s = perlin_split(octave_coordinate(x, plan, o), kPrimes[a]);
+                const PerlinAxis<F1, U1> s = perlin_axis(octave_coordinate(x, plan, o), kPrimes[a]);
                 table.cell[i] = s.cell;
                 table.t[i] = s.t;
-                table.fade[i] = fade(s.t);
+                table.fade[i] = s.fade;
             }
         }
 
@@ -213,18 +177,14 @@ void fill_simplex_grid(const FractalPlan& plan, const double (&origin)[N], const
         for (std::size_t i = 0; i < count[a]; ++i) coordinate[a][i] = origin[a] + step[a] * static_cast<double>(i);
     }
     Block b;
-    Staged<N> st;
+    Coordinates<N> c;
     for_each_row<N>(count, out, [&](const std::size_t (&index)[N], float* row_out) {
         for (std::size_t start = 0; start < count[0]; start += kBlock) {
             const std::size_t n = std::min(kBlock, count[0] - start);
-            const auto point = [&](std::size_t i, double (&p)[N]) {
-                p[0] = coordinate[0][start + i];
-                for (int a = 1; a < N; ++a) p[a] = coordinate[a][index[a]];
-            };
-            for (int o = 0; o < plan.octaves; ++o) {
-                stage<N>(plan, o, point, n, st);
-                evaluate_staged<N>(plan, o, st, n, b);
-            }
+            for (std::size_t i = 0; i < n; ++i) c.x[0][i] = coordinate[0][start + i];
+            for (int a = 1; a < N; ++a) std::fill(c.x[a], c.x[a] + n, coordinate[a][index[a]]);
+            c.pad(n);
+            evaluate_block<N>(plan, c, n, b);
             b.finish_to(row_out + start, n);
         }
     });
@@ -247,6 +207,20 @@ void fill_grid(const char* where, const Noise& noise, const Fractal& fractal, co
     else fill_simplex_grid<N>(plan, origin, step, count, out);
 }
 
+// A list of glm vectors (N components each), in blocks.
+template <int N, class Vec> void fill_point_list(const FractalPlan& plan, const Vec* points, std::size_t count, float* out) {
+    Block b;
+    Coordinates<N> c;
+    for (std::size_t start = 0; start < count; start += kBlock) {
+        const std::size_t n = std::min(kBlock, count - start);
+        for (std::size_t i = 0; i < n; ++i)
+            for (int a = 0; a < N; ++a) c.x[a][i] = points[start + i][a];
+        c.pad(n);
+        evaluate_block<N>(plan, c, n, b);
+        b.finish_to(out + start, n);
+    }
+}
+
 template <int N, class Vec>
 void fill_points(const char* where, const Noise& noise, const Fractal& fractal, const Vec* points, std::size_t count,
                  float* out) {
@@ -254,11 +228,7 @@ void fill_points(const char* where, const Noise& noise, const Fractal& fractal, 
     if (count == 0) return;
     if (points == nullptr) throw Error(std::string(where) + "points is null");
     if (out == nullptr) throw Error(std::string(where) + "out is null");
-    const FractalPlan plan = make_plan(fractal, noise.seed());
-    const auto point = [&](std::size_t i, double (&p)[N]) {
-        for (int a = 0; a < N; ++a) p[a] = points[i][a];
-    };
-    fill_staged<N>(plan, point, count, out);
+    fill_point_list<N>(make_plan(fractal, noise.seed()), points, count, out);
 }
 
 template <int N, class Vec>
@@ -273,10 +243,7 @@ void warp_points(const char* where, const Noise& noise, const DomainWarp& warp, 
     std::vector<float> d(kChunk * N);
     for (std::size_t start = 0; start < count; start += kChunk) {
         const std::size_t n = std::min(kChunk, count - start);
-        const auto point = [&](std::size_t i, double (&p)[N]) {
-            for (int a = 0; a < N; ++a) p[a] = points[start + i][a];
-        };
-        for (int a = 0; a < N; ++a) fill_staged<N>(plans[a], point, n, d.data() + a * kChunk);
+        for (int a = 0; a < N; ++a) fill_point_list<N>(plans[a], points + start, n, d.data() + a * kChunk);
         for (std::size_t i = 0; i < n; ++i)
             for (int a = 0; a < N; ++a)
                 points[start + i][a] = points[start + i][a] + warp.amplitude * static_cast<double>(d[a * kChunk + i]);

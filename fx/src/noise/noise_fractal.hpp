@@ -45,8 +45,8 @@ constexpr double kOctaveOffset = 0.6180339887498949;
 
 // The coordinate octave o samples. Octave 0 is exactly coordinate·frequency, so one octave of
 // fBm is the basis itself.
-inline double octave_coordinate(double x, const FractalPlan& plan, int o) {
-    const double q = x * plan.frequency[o];
+template <class D> inline D octave_coordinate(D x, const FractalPlan& plan, int o) {
+    const D q = x * plan.frequency[o];
     return o == 0 ? q : q + plan.offset[o];
 }
 

@@ -72,15 +72,18 @@ constexpr float kCos22 = 0.923879532511286756f; // cos 22.5°
 constexpr float kSin22 = 0.382683432365089772f; // sin 22.5°
 
 // --- lanes ----------------------------------------------------------------------------------
-// Scalar lanes are float / std::uint32_t; a mask is 0 or ~0u. The vector lanes behave the same,
-// element by element.
+// Scalar lanes are float / uint32 (and double / uint64 for coordinates); a mask is 0 or all ones.
+// Vector lanes behave the same, element by element. The double lanes exist only in the batch
+// file (FX_NOISE_BATCH), the one place that needs them.
 
 using F1 = float;
 using U1 = std::uint32_t;
+using D1 = double;
+using Q1 = std::uint64_t;
 
 #if defined(__GNUC__)
 #define FX_NOISE_HAVE_VECTOR 1
-constexpr int kLanes = 4;
+constexpr int kLanes = 4; // SSE2 / NEON width; 8 lanes on SSE2 spill registers and run slower
 typedef float VecF __attribute__((vector_size(4 * kLanes)));
 typedef std::uint32_t VecU __attribute__((vector_size(4 * kLanes)));
 #else
@@ -100,11 +103,31 @@ inline F1 as_f(U1 u) {
     std::memcpy(&f, &u, sizeof f);
     return f;
 }
+inline Q1 as_q(D1 d) {
+    Q1 q;
+    std::memcpy(&q, &d, sizeof q);
+    return q;
+}
+inline D1 as_d(Q1 q) {
+    D1 d;
+    std::memcpy(&d, &q, sizeof d);
+    return d;
+}
 inline U1 mask_eq(U1 a, U1 b) { return a == b ? ~0u : 0u; }
 inline U1 mask_gt(F1 a, F1 b) { return a > b ? ~0u : 0u; }
 inline U1 mask_ge(F1 a, F1 b) { return a >= b ? ~0u : 0u; }
+inline Q1 mask_gt(D1 a, D1 b) { return a > b ? ~Q1(0) : Q1(0); }
 inline F1 splat_f(F1, float v) { return v; }
 inline U1 splat_u(U1, std::uint32_t v) { return v; }
+inline D1 splat_d(D1, double v) { return v; }
+inline F1 narrow(D1 d) { return static_cast<float>(d); } // round to nearest
+inline U1 low32(Q1 q) { return static_cast<U1>(q); }
+
+// The float and uint32 lanes that go with double lanes D.
+template <class D> struct LanesOf {
+    using F = F1;
+    using U = U1;
+};
 
 #if FX_NOISE_HAVE_VECTOR
 inline VecU as_u(VecF f) { return (VecU)f; }
@@ -126,12 +149,61 @@ inline VecU load_u(const std::uint32_t* p) {
     return v;
 }
 inline void store_f(float* p, VecF v) { std::memcpy(p, &v, sizeof v); }
+
+#if defined(FX_NOISE_BATCH)
+// Four double lanes as two 16-byte halves: without AVX, GCC turns 32-byte double compares into
+// four scalar ones, while 16-byte vectors map to single SSE2 / NEON instructions.
+static_assert(kLanes == 4, "VecD holds four lanes");
+typedef double VecD2 __attribute__((vector_size(16)));
+typedef std::uint64_t VecQ2 __attribute__((vector_size(16)));
+typedef double VecD4 __attribute__((vector_size(32))); // only inside narrow/low32
+typedef std::uint64_t VecQ4 __attribute__((vector_size(32)));
+struct VecD {
+    VecD2 lo, hi;
+};
+struct VecQ {
+    VecQ2 lo, hi;
+};
+template <> struct LanesOf<VecD> {
+    using F = VecF;
+    using U = VecU;
+};
+inline VecD operator+(VecD a, VecD b) { return {a.lo + b.lo, a.hi + b.hi}; }
+inline VecD operator-(VecD a, VecD b) { return {a.lo - b.lo, a.hi - b.hi}; }
+inline VecD operator*(VecD a, VecD b) { return {a.lo * b.lo, a.hi * b.hi}; }
+inline VecD operator+(VecD a, double b) { return {a.lo + b, a.hi + b}; }
+inline VecD operator-(VecD a, double b) { return {a.lo - b, a.hi - b}; }
+inline VecD operator*(VecD a, double b) { return {a.lo * b, a.hi * b}; }
+inline VecQ operator&(VecQ a, VecQ b) { return {a.lo & b.lo, a.hi & b.hi}; }
+inline VecQ operator|(VecQ a, VecQ b) { return {a.lo | b.lo, a.hi | b.hi}; }
+inline VecQ operator~(VecQ a) { return {~a.lo, ~a.hi}; }
+inline VecQ as_q(VecD d) { return {(VecQ2)d.lo, (VecQ2)d.hi}; }
+inline VecD as_d(VecQ q) { return {(VecD2)q.lo, (VecD2)q.hi}; }
+inline VecQ mask_gt(VecD a, VecD b) { return {(VecQ2)(a.lo > b.lo), (VecQ2)(a.hi > b.hi)}; }
+inline VecD splat_d(VecD, double v) { return {VecD2{} + v, VecD2{} + v}; }
+inline VecF narrow(VecD d) { // round to nearest, per lane
+    VecD4 all;
+    std::memcpy(&all, &d, sizeof all);
+    return __builtin_convertvector(all, VecF);
+}
+inline VecU low32(VecQ q) { // truncation, per lane
+    VecQ4 all;
+    std::memcpy(&all, &q, sizeof all);
+    return __builtin_convertvector(all, VecU);
+}
+inline VecD load_d(const double* p) {
+    VecD v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+#endif
 #endif
 
 // Bit `b` of h as a mask.
 template <class U> inline U bit_mask(U h, int b) { return 0u - ((h >> b) & 1u); }
 // m ? a : b, bitwise.
 template <class F, class U> inline F select(U m, F a, F b) { return as_f((m & as_u(a)) | (~m & as_u(b))); }
+template <class D, class Q> inline D select_d(Q m, D a, D b) { return as_d((m & as_q(a)) | (~m & as_q(b))); }
 // v with its sign flipped where bit `b` of h is set.
 template <class F, class U> inline F flip(F v, U h, int b) { return as_f(as_u(v) ^ ((h << (31 - b)) & 0x80000000u)); }
 // 1.0f where the mask is set, else 0.0f.
@@ -338,68 +410,65 @@ template <class F, class U> inline F simplex4(U key, const SimplexSample<F, U, 4
 }
 
 // --- the double-precision split -------------------------------------------------------------
+// Templates over the double lanes D, so the scalar path and the batch run the same operations.
 
-inline double clamp_coordinate(double x) {
-    x = x > -kMaxCoordinate ? x : -kMaxCoordinate; // NaN fails this test and becomes −2⁴⁸
-    return x < kMaxCoordinate ? x : kMaxCoordinate;
+template <class D> inline D clamp_coordinate(D x) {
+    const D lo = splat_d(x, -kMaxCoordinate), hi = splat_d(x, kMaxCoordinate);
+    x = select_d(mask_gt(x, lo), x, lo); // NaN fails the test and becomes −2⁴⁸
+    return select_d(mask_gt(hi, x), x, hi);
 }
 
 // ⌊x⌋ as a double and its low 32 bits, for |x| ≤ 2⁵⁰, using only IEEE add/subtract/compare:
 // x + 1.5·2⁵² lies in [2⁵², 2⁵³) where doubles are the integers, so it lands on ⌊x⌋ or ⌈x⌉
 // (under any rounding mode) and the comparison fixes ⌈x⌉. The mantissa of r + 1.5·2⁵² holds
 // 2⁵¹ + r, whose low 32 bits are r mod 2³².
-struct Floor {
-    double value;
-    std::uint32_t low_bits;
+template <class D> struct Floor {
+    D value;
+    typename LanesOf<D>::U low_bits;
 };
-inline Floor floor_split(double x) {
-    double r = (x + kRoundMagic) - kRoundMagic;
-    r = r > x ? r - 1.0 : r;
-    const double biased = r + kRoundMagic;
-    std::uint64_t bits;
-    std::memcpy(&bits, &biased, sizeof bits);
-    return {r, static_cast<std::uint32_t>(bits)};
+template <class D> inline Floor<D> floor_split(D x) {
+    const D magic = splat_d(x, kRoundMagic);
+    D r = (x + magic) - magic;
+    r = select_d(mask_gt(r, x), r - 1.0, r);
+    return {r, low32(as_q(r + magic))};
 }
 
-// One Perlin axis: cell·prime and the offset in the cell, in [0, 1] (1 only by float rounding of
-// offsets within 2⁻²⁵ of the next cell, where both cells give the same value to float accuracy).
-struct PerlinSplit {
-    std::uint32_t cell;
-    float t;
-};
-inline PerlinSplit perlin_split(double x, std::uint32_t prime) {
-    x = clamp_coordinate(x);
-    const Floor f = floor_split(x);
-    return {f.low_bits * prime, static_cast<float>(x - f.value)};
-}
-
-template <int N> struct SimplexSplit {
-    std::uint32_t cell[N];
-    float d[N];
-};
 constexpr std::uint32_t kPrimes[4] = {kPrimeX, kPrimeY, kPrimeZ, kPrimeW};
+
+// One Perlin axis from a coordinate: the cell times the axis prime and the offset in the cell,
+// in [0, 1] (1 only where float rounding of offsets within 2⁻²⁵ of the next cell rounds up;
+// both cells give the same value there to float accuracy).
+template <class D> inline PerlinAxis<typename LanesOf<D>::F, typename LanesOf<D>::U> perlin_axis(D x, std::uint32_t prime) {
+    using F = typename LanesOf<D>::F;
+    x = clamp_coordinate(x);
+    const Floor<D> f = floor_split(x);
+    const F t = narrow(x - f.value);
+    return {f.low_bits * prime, t, fade(t)};
+}
 
 // Skew to find the simplex lattice cell, unskew to get the offset from its corner (all in double,
 // so the narrowed offsets are as accurate far from the origin as near it).
-template <int N> inline SimplexSplit<N> simplex_split(const double (&p)[N], double skew, double unskew) {
-    double x[N];
-    double sum = 0.0;
+template <int N, class D>
+inline SimplexSample<typename LanesOf<D>::F, typename LanesOf<D>::U, N> simplex_sample(const D (&p)[N], double skew,
+                                                                                      double unskew) {
+    D x[N];
+    D sum = splat_d(p[0], 0.0);
     for (int a = 0; a < N; ++a) {
         x[a] = clamp_coordinate(p[a]);
-        sum += x[a];
+        sum = sum + x[a];
     }
-    const double s = sum * skew;
-    SimplexSplit<N> out;
-    double cell[N];
-    double cell_sum = 0.0;
+    const D s = sum * skew;
+    SimplexSample<typename LanesOf<D>::F, typename LanesOf<D>::U, N> out;
+    D cell[N];
+    D cell_sum = splat_d(p[0], 0.0);
     for (int a = 0; a < N; ++a) {
-        const Floor f = floor_split(x[a] + s);
+        const Floor<D> f = floor_split(x[a] + s);
         cell[a] = f.value;
-        cell_sum += f.value;
+        cell_sum = cell_sum + f.value;
         out.cell[a] = f.low_bits * kPrimes[a];
     }
-    const double t = cell_sum * unskew;
-    for (int a = 0; a < N; ++a) out.d[a] = static_cast<float>(x[a] - (cell[a] - t));
+    const D t = cell_sum * unskew;
+    for (int a = 0; a < N; ++a) out.d[a] = narrow(x[a] - (cell[a] - t));
     return out;
 }
 
