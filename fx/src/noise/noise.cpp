@@ -81,8 +81,12 @@ void check_fractal(const Fractal& fractal, const char* where, const char* name) 
                 ", lacunarity " + number(fractal.lacunarity) + ", " + std::to_string(fractal.octaves) + " octaves)");
 }
 
+std::uint32_t warp_seed(std::uint32_t seed, int axis) {
+    return seed ^ (0x68e31da4u + static_cast<std::uint32_t>(axis) * 0x6c8e9cf5u);
+}
+
 FractalPlan make_plan(const Fractal& fractal, std::uint32_t seed) {
-    FractalPlan plan;
+    FractalPlan plan{};
     plan.basis = fractal.basis;
     plan.type = fractal.type;
     plan.octaves = fractal.octaves;

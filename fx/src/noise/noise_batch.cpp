@@ -1,238 +1,109 @@
-// cellfx — batch noise: fill grids and point lists kLanes samples at a time.
-//
-// Based on: the kernels of noise_kernels.hpp (Perlin 2002, Gustavson 2005) run on vector lanes.
-// Work goes in blocks of kBlock samples that stay in L1: for each octave the block's inputs are
-// split in double (per sample, or once per grid axis for Perlin grids, whose axes are separable),
-// the vector kernel evaluates them, and the octave is added to the block's running sum. Every
-// lane does exactly the operations of the scalar path, so the results are the scalar ones.
-// The coordinate split runs in double lanes (two SSE2 registers per four samples), the kernels
-// in float lanes.
-#define FX_NOISE_BATCH 1 // the double vector lanes of noise_kernels.hpp
-
+// cellfx — the public batch fills: validate, allocate scratch, pick the kernels (noise_batch.hpp)
+// and run them; domain warp of point arrays on top.
 #include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
-#include "noise_fractal.hpp"
+#include "noise_batch.hpp"
 
 namespace fx {
 namespace noise_detail {
 namespace {
 
-constexpr std::size_t kBlock = 64;
-static_assert(kBlock % kLanes == 0, "a block is whole vectors");
+std::atomic<int> g_requested_isa{static_cast<int>(BatchIsa::automatic)};
 
-#if FX_NOISE_HAVE_VECTOR
-inline VecF load_lanes(const float* p) { return load_f(p); }
-inline VecU load_lanes(const std::uint32_t* p) { return load_u(p); }
-inline void store_lanes(float* p, VecF v) { store_f(p, v); }
-inline VecD load_lanes(const double* p) { return load_d(p); }
-#else
-using VecD = D1;
-inline VecF load_lanes(const float* p) { return *p; }
-inline VecU load_lanes(const std::uint32_t* p) { return *p; }
-inline VecD load_lanes(const double* p) { return *p; }
-inline void store_lanes(float* p, VecF v) { *p = v; }
+const BatchKernels& kernels_for(BatchIsa isa) {
+#if FX_NOISE_HAVE_AVX2
+    if (isa == BatchIsa::avx2 && batch_isa_supported(BatchIsa::avx2)) return avx2_batch_kernels();
 #endif
-
-using VAxis = PerlinAxis<VecF, VecU>;
-
-template <int N> VecF perlin_lanes(VecU key, const VAxis (&a)[N]) {
-    if constexpr (N == 2) return perlin2<VecF, VecU>(key, a[0], a[1]);
-    else if constexpr (N == 3) return perlin3<VecF, VecU>(key, a[0], a[1], a[2]);
-    else return perlin4<VecF, VecU>(key, a[0], a[1], a[2], a[3]);
+    (void)isa;
+    return baseline_batch_kernels();
 }
 
-template <int N> VecF simplex_lanes(VecU key, const SimplexSample<VecF, VecU, N>& s) {
-    if constexpr (N == 2) return simplex2<VecF, VecU>(key, s);
-    else if constexpr (N == 3) return simplex3<VecF, VecU>(key, s);
-    else return simplex4<VecF, VecU>(key, s);
+BatchIsa automatic_isa() {
+    static const BatchIsa isa = [] {
+        const char* env = std::getenv("CELLFX_NOISE_ISA");
+        if (env != nullptr && std::strcmp(env, "baseline") == 0) return BatchIsa::baseline;
+        return batch_isa_supported(BatchIsa::avx2) ? BatchIsa::avx2 : BatchIsa::baseline;
+    }();
+    return isa;
 }
 
-template <int N> constexpr double skew() { return N == 2 ? kF2 : N == 3 ? kF3 : kF4; }
-template <int N> constexpr double unskew() { return N == 2 ? kG2 : N == 3 ? kG3 : kG4; }
+// Scratch for fill_grid: the tables of GridScratch carved out of one allocation.
+template <int N> struct GridStorage {
+    std::vector<double> memory;
+    GridScratch<N> scratch{};
 
-// The running sums of one block.
-struct Block {
-    alignas(64) float sum[kBlock];
-
-    // Add octave o's lane values v at i..i+kLanes.
-    void add(const FractalPlan& plan, int o, std::size_t i, VecF v) {
-        const VecF shaped = shape(plan.type, v);
-        store_lanes(sum + i, accumulate(o, o == 0 ? shaped : load_lanes(sum + i), shaped, plan.amplitude[o]));
-    }
-    void finish_to(float* out, std::size_t n) {
-        for (std::size_t i = 0; i < n; i += kLanes) store_lanes(sum + i, finish(load_lanes(sum + i)));
-        for (std::size_t i = 0; i < n; ++i) out[i] = sum[i];
-    }
-};
-
-// The coordinates of one block's samples, per axis (lanes past the block's end are 0).
-template <int N> struct Coordinates {
-    alignas(64) double x[N][kBlock];
-
-    void pad(std::size_t n) {
-        for (std::size_t i = n; i < (n + kLanes - 1) / kLanes * kLanes; ++i)
-            for (int a = 0; a < N; ++a) x[a][i] = 0.0;
-    }
-};
-
-// Every octave of a block into its running sums: split in double lanes (scaled as fractal_sum
-// does), then the kernel in float lanes.
-template <int N> void evaluate_block(const FractalPlan& plan, const Coordinates<N>& c, std::size_t n, Block& b) {
-    for (int o = 0; o < plan.octaves; ++o) {
-        const VecU key = splat_u(VecU{}, plan.key[o]);
-        for (std::size_t i = 0; i < n; i += kLanes) {
-            VecD q[N];
-            for (int a = 0; a < N; ++a) q[a] = octave_coordinate(load_lanes(c.x[a] + i), plan, o);
-            VecF v;
-            if (plan.basis == NoiseBasis::perlin) {
-                VAxis ax[N];
-                for (int a = 0; a < N; ++a) ax[a] = perlin_axis(q[a], kPrimes[a]);
-                v = perlin_lanes<N>(key, ax);
-            } else {
-                v = simplex_lanes<N>(key, simplex_sample<N>(q, skew<N>(), unskew<N>()));
-            }
-            b.add(plan, o, i, v);
-        }
-    }
-}
-
-// Calls row_fn(index, out_row) for every row of the grid (x fastest, so a row is count[0]
-// consecutive samples); index[0] is 0 and the other entries give the row's position.
-template <int N, class RowFn> void for_each_row(const std::size_t (&count)[N], float* out, const RowFn& row_fn) {
-    std::size_t index[N] = {};
-    std::size_t rows = 1;
-    for (int a = 1; a < N; ++a) rows *= count[a];
-    for (std::size_t row = 0; row < rows; ++row) {
-        row_fn(index, out + row * count[0]);
-        for (int a = 1; a < N && ++index[a] == count[a]; ++a) index[a] = 0;
-    }
-}
-
-// Perlin on a grid: the axes are separable, so each axis is split once per octave into a table
-// (cell·prime, offset, fade) and the rows combine table entries (x in lanes, the rest broadcast).
-struct AxisTable {
-    std::vector<std::uint32_t> cell;
-    std::vector<float> t, fade;
-};
-
-template <int N>
-void fill_perlin_grid(const FractalPlan& plan, const double (&origin)[N], const double (&step)[N],
-                      const std::size_t (&count)[N], float* out) {
-    // tables[o * N + a]; the x tables are padded to whole blocks.
-    std::vector<AxisTable> tables(static_cast<std::size_t>(plan.octaves) * N);
-    const std::size_t nx_padded = (count[0] + kBlock - 1) / kBlock * kBlock;
-    for (int o = 0; o < plan.octaves; ++o)
+    GridStorage(const FractalPlan& plan, const GridSpec<N>& grid) {
+        std::size_t length[N];
+        std::size_t total = 0;
         for (int a = 0; a < N; ++a) {
-            AxisTable& table = tables[static_cast<std::size_t>(o) * N + a];
-            const std::size_t n = a == 0 ? nx_padded : count[a];
-            table.cell.assign(n, 0u);
-            table.t.assign(n, 0.0f);
-            table.fade.assign(n, 0.0f);
-            for (std::size_t i = 0; i < count[a]; ++i) {
-                const double x = origin[a] + step[a] * static_cast<double>(i);
-                const PerlinAxis<F1, U1> s = perlin_axis(octave_coordinate(x, plan, o), kPrimes[a]);
-                table.cell[i] = s.cell;
-                table.t[i] = s.t;
-                table.fade[i] = s.fade;
+            length[a] = a == 0 ? (grid.count[0] + kBlock - 1) / kBlock * kBlock : grid.count[a];
+            total += length[a];
+        }
+        if (plan.basis == NoiseBasis::perlin) {
+            // per octave and axis: cell (4 bytes), t and fade (4 each) — 12 bytes per entry
+            const std::size_t bytes = static_cast<std::size_t>(plan.octaves) * total * 12;
+            memory.resize(bytes / sizeof(double) + 1);
+            auto* p = reinterpret_cast<unsigned char*>(memory.data());
+            for (int o = 0; o < plan.octaves; ++o)
+                for (int a = 0; a < N; ++a) {
+                    scratch.table[o][a].cell = reinterpret_cast<std::uint32_t*>(p);
+                    scratch.table[o][a].t = reinterpret_cast<float*>(p + 4 * length[a]);
+                    scratch.table[o][a].fade = reinterpret_cast<float*>(p + 8 * length[a]);
+                    p += 12 * length[a];
+                }
+        } else {
+            memory.resize(total);
+            double* p = memory.data();
+            for (int a = 0; a < N; ++a) {
+                scratch.coordinate[a] = p;
+                p += length[a];
             }
         }
-
-    Block b;
-    for_each_row<N>(count, out, [&](const std::size_t (&index)[N], float* row_out) {
-        for (std::size_t start = 0; start < count[0]; start += kBlock) {
-            const std::size_t n = std::min(kBlock, count[0] - start);
-            for (int o = 0; o < plan.octaves; ++o) {
-                const VecU key = splat_u(VecU{}, plan.key[o]);
-                const AxisTable* t = &tables[static_cast<std::size_t>(o) * N];
-                VAxis ax[N];
-                for (int a = 1; a < N; ++a) {
-                    const std::size_t k = index[a];
-                    ax[a] = {splat_u(VecU{}, t[a].cell[k]), splat_f(VecF{}, t[a].t[k]), splat_f(VecF{}, t[a].fade[k])};
-                }
-                for (std::size_t i = 0; i < n; i += kLanes) {
-                    const std::size_t x = start + i;
-                    ax[0] = {load_lanes(t[0].cell.data() + x), load_lanes(t[0].t.data() + x),
-                             load_lanes(t[0].fade.data() + x)};
-                    b.add(plan, o, i, perlin_lanes<N>(key, ax));
-                }
-            }
-            b.finish_to(row_out + start, n);
-        }
-    });
-}
-
-// Simplex on a grid: the skew mixes the axes, so samples are split one by one, but the
-// coordinates come from per-axis tables, a row at a time.
-template <int N>
-void fill_simplex_grid(const FractalPlan& plan, const double (&origin)[N], const double (&step)[N],
-                       const std::size_t (&count)[N], float* out) {
-    std::vector<double> coordinate[N];
-    for (int a = 0; a < N; ++a) {
-        coordinate[a].resize(count[a]);
-        for (std::size_t i = 0; i < count[a]; ++i) coordinate[a][i] = origin[a] + step[a] * static_cast<double>(i);
     }
-    Block b;
-    Coordinates<N> c;
-    for_each_row<N>(count, out, [&](const std::size_t (&index)[N], float* row_out) {
-        for (std::size_t start = 0; start < count[0]; start += kBlock) {
-            const std::size_t n = std::min(kBlock, count[0] - start);
-            for (std::size_t i = 0; i < n; ++i) c.x[0][i] = coordinate[0][start + i];
-            for (int a = 1; a < N; ++a) std::fill(c.x[a], c.x[a] + n, coordinate[a][index[a]]);
-            c.pad(n);
-            evaluate_block<N>(plan, c, n, b);
-            b.finish_to(row_out + start, n);
-        }
-    });
-}
+};
 
 template <int N>
-void fill_grid(const char* where, const Noise& noise, const Fractal& fractal, const double (&origin)[N],
-               const double (&step)[N], const std::size_t (&count)[N], float* out) {
+void fill_grid(const char* where, const Noise& noise, const Fractal& fractal, const GridSpec<N>& grid,
+               void (*kernel)(const FractalPlan&, const GridSpec<N>&, const GridScratch<N>&, float*), float* out) {
     check_fractal(fractal, where, "Fractal");
     std::size_t total = 1;
     for (int a = 0; a < N; ++a) {
-        if (count[a] != 0 && total > std::numeric_limits<std::size_t>::max() / count[a])
+        if (grid.count[a] != 0 && total > std::numeric_limits<std::size_t>::max() / grid.count[a])
             throw Error(std::string(where) + "the grid's sample count overflows std::size_t");
-        total *= count[a];
+        total *= grid.count[a];
     }
     if (total == 0) return;
     if (out == nullptr) throw Error(std::string(where) + "out is null");
     const FractalPlan plan = make_plan(fractal, noise.seed());
-    if (plan.basis == NoiseBasis::perlin) fill_perlin_grid<N>(plan, origin, step, count, out);
-    else fill_simplex_grid<N>(plan, origin, step, count, out);
+    const GridStorage<N> storage(plan, grid);
+    kernel(plan, grid, storage.scratch, out);
 }
 
-// A list of glm vectors (N components each), in blocks.
-template <int N, class Vec> void fill_point_list(const FractalPlan& plan, const Vec* points, std::size_t count, float* out) {
-    Block b;
-    Coordinates<N> c;
-    for (std::size_t start = 0; start < count; start += kBlock) {
-        const std::size_t n = std::min(kBlock, count - start);
-        for (std::size_t i = 0; i < n; ++i)
-            for (int a = 0; a < N; ++a) c.x[a][i] = points[start + i][a];
-        c.pad(n);
-        evaluate_block<N>(plan, c, n, b);
-        b.finish_to(out + start, n);
-    }
-}
+using PointsKernel = void (*)(const FractalPlan&, const double*, std::size_t, std::size_t, float*);
 
 template <int N, class Vec>
 void fill_points(const char* where, const Noise& noise, const Fractal& fractal, const Vec* points, std::size_t count,
-                 float* out) {
+                 PointsKernel kernel, float* out) {
+    static_assert(sizeof(Vec) == N * sizeof(double), "glm vectors are N packed doubles");
     check_fractal(fractal, where, "Fractal");
     if (count == 0) return;
     if (points == nullptr) throw Error(std::string(where) + "points is null");
     if (out == nullptr) throw Error(std::string(where) + "out is null");
-    fill_point_list<N>(make_plan(fractal, noise.seed()), points, count, out);
+    kernel(make_plan(fractal, noise.seed()), &points[0].x, N, count, out);
 }
 
 template <int N, class Vec>
-void warp_points(const char* where, const Noise& noise, const DomainWarp& warp, Vec* points, std::size_t count) {
+void warp_points(const char* where, const Noise& noise, const DomainWarp& warp, Vec* points, std::size_t count,
+                 PointsKernel kernel) {
+    static_assert(sizeof(Vec) == N * sizeof(double), "glm vectors are N packed doubles");
     check_warp(warp, where);
     if (count == 0) return;
     if (points == nullptr) throw Error(std::string(where) + "points is null");
@@ -243,7 +114,7 @@ void warp_points(const char* where, const Noise& noise, const DomainWarp& warp, 
     std::vector<float> d(kChunk * N);
     for (std::size_t start = 0; start < count; start += kChunk) {
         const std::size_t n = std::min(kChunk, count - start);
-        for (int a = 0; a < N; ++a) fill_point_list<N>(plans[a], points + start, n, d.data() + a * kChunk);
+        for (int a = 0; a < N; ++a) kernel(plans[a], &points[start].x, N, n, d.data() + a * kChunk);
         for (std::size_t i = 0; i < n; ++i)
             for (int a = 0; a < N; ++a)
                 points[start + i][a] = points[start + i][a] + warp.amplitude * static_cast<double>(d[a * kChunk + i]);
@@ -251,42 +122,63 @@ void warp_points(const char* where, const Noise& noise, const DomainWarp& warp, 
 }
 
 } // namespace
+
+bool batch_isa_supported(BatchIsa isa) {
+    switch (isa) {
+    case BatchIsa::automatic:
+    case BatchIsa::baseline:
+        return true;
+    case BatchIsa::avx2:
+#if FX_NOISE_HAVE_AVX2
+        return __builtin_cpu_supports("avx2");
+#else
+        return false;
+#endif
+    }
+    return false;
+}
+
+void set_batch_isa(BatchIsa isa) { g_requested_isa.store(static_cast<int>(isa)); }
+
+const BatchKernels& batch_kernels() {
+    const auto requested = static_cast<BatchIsa>(g_requested_isa.load());
+    return kernels_for(requested == BatchIsa::automatic ? automatic_isa() : requested);
+}
+
 } // namespace noise_detail
 
 using namespace noise_detail;
 
 void fill_grid2(const Noise& noise, const Fractal& fractal, const Grid2& g, float* out) {
-    const double origin[2] = {g.origin.x, g.origin.y}, step[2] = {g.step.x, g.step.y};
-    const std::size_t count[2] = {g.nx, g.ny};
-    fill_grid<2>("fx::fill_grid2: ", noise, fractal, origin, step, count, out);
+    const GridSpec<2> grid{{g.origin.x, g.origin.y}, {g.step.x, g.step.y}, {g.nx, g.ny}};
+    fill_grid<2>("fx::fill_grid2: ", noise, fractal, grid, batch_kernels().fill_grid2, out);
 }
 void fill_grid3(const Noise& noise, const Fractal& fractal, const Grid3& g, float* out) {
-    const double origin[3] = {g.origin.x, g.origin.y, g.origin.z}, step[3] = {g.step.x, g.step.y, g.step.z};
-    const std::size_t count[3] = {g.nx, g.ny, g.nz};
-    fill_grid<3>("fx::fill_grid3: ", noise, fractal, origin, step, count, out);
+    const GridSpec<3> grid{{g.origin.x, g.origin.y, g.origin.z}, {g.step.x, g.step.y, g.step.z}, {g.nx, g.ny, g.nz}};
+    fill_grid<3>("fx::fill_grid3: ", noise, fractal, grid, batch_kernels().fill_grid3, out);
 }
 void fill_grid4(const Noise& noise, const Fractal& fractal, const Grid4& g, float* out) {
-    const double origin[4] = {g.origin.x, g.origin.y, g.origin.z, g.origin.w};
-    const double step[4] = {g.step.x, g.step.y, g.step.z, g.step.w};
-    const std::size_t count[4] = {g.nx, g.ny, g.nz, g.nw};
-    fill_grid<4>("fx::fill_grid4: ", noise, fractal, origin, step, count, out);
+    const GridSpec<4> grid{{g.origin.x, g.origin.y, g.origin.z, g.origin.w},
+                           {g.step.x, g.step.y, g.step.z, g.step.w},
+                           {g.nx, g.ny, g.nz, g.nw}};
+    fill_grid<4>("fx::fill_grid4: ", noise, fractal, grid, batch_kernels().fill_grid4, out);
 }
 
 void fill_points2(const Noise& noise, const Fractal& fractal, const glm::dvec2* points, std::size_t count, float* out) {
-    fill_points<2>("fx::fill_points2: ", noise, fractal, points, count, out);
+    fill_points<2>("fx::fill_points2: ", noise, fractal, points, count, batch_kernels().fill_points2, out);
 }
 void fill_points3(const Noise& noise, const Fractal& fractal, const glm::dvec3* points, std::size_t count, float* out) {
-    fill_points<3>("fx::fill_points3: ", noise, fractal, points, count, out);
+    fill_points<3>("fx::fill_points3: ", noise, fractal, points, count, batch_kernels().fill_points3, out);
 }
 void fill_points4(const Noise& noise, const Fractal& fractal, const glm::dvec4* points, std::size_t count, float* out) {
-    fill_points<4>("fx::fill_points4: ", noise, fractal, points, count, out);
+    fill_points<4>("fx::fill_points4: ", noise, fractal, points, count, batch_kernels().fill_points4, out);
 }
 
 void warp_points2(const Noise& noise, const DomainWarp& warp, glm::dvec2* points, std::size_t count) {
-    warp_points<2>("fx::warp_points2: ", noise, warp, points, count);
+    warp_points<2>("fx::warp_points2: ", noise, warp, points, count, batch_kernels().fill_points2);
 }
 void warp_points3(const Noise& noise, const DomainWarp& warp, glm::dvec3* points, std::size_t count) {
-    warp_points<3>("fx::warp_points3: ", noise, warp, points, count);
+    warp_points<3>("fx::warp_points3: ", noise, warp, points, count, batch_kernels().fill_points3);
 }
 
 } // namespace fx

@@ -1,6 +1,6 @@
-// cellfx — pieces shared by the scalar (noise.cpp) and batch (noise_batch.cpp) evaluation:
+// cellfx — pieces shared by the scalar (noise.cpp) and batch (noise_batch*.cpp) evaluation:
 // the validated fractal plan, one scalar sample of each basis, and the octave arithmetic.
-// Both files must go through these so that a batch gives the scalar result bit for bit.
+// Both must go through these so that a batch gives the scalar result bit for bit.
 //
 // Based on: FastNoise Lite (Peck 2020): fractal bounding (amplitudes normalised to sum to 1),
 // a new seed per octave, ridged as 1 − 2|n|.
@@ -15,15 +15,16 @@ namespace fx::noise_detail {
 
 constexpr int kMaxOctaves = 16;
 
-// A validated Fractal with each octave's frequency, amplitude and hash key.
+// A validated Fractal with each octave's frequency, amplitude and hash key (trivial: no inline
+// member functions for the per-instruction-set builds to duplicate).
 struct FractalPlan {
-    NoiseBasis basis = NoiseBasis::perlin;
-    FractalType type = FractalType::fbm;
-    int octaves = 1;
-    double frequency[kMaxOctaves] = {};
-    double offset[kMaxOctaves] = {}; // added to every coordinate of octaves ≥ 1
-    float amplitude[kMaxOctaves] = {};
-    std::uint32_t key[kMaxOctaves] = {};
+    NoiseBasis basis;
+    FractalType type;
+    int octaves;
+    double frequency[kMaxOctaves];
+    double offset[kMaxOctaves]; // added to every coordinate of octaves ≥ 1
+    float amplitude[kMaxOctaves];
+    std::uint32_t key[kMaxOctaves];
 };
 
 // Throw fx::Error naming the caller (`where`, "fx::fill_grid3: "), the struct (`name`,
@@ -34,21 +35,12 @@ void check_warp(const DomainWarp& warp, const char* where);
 FractalPlan make_plan(const Fractal& fractal, std::uint32_t seed);
 
 // The seed of warp axis `axis`'s noise.
-inline std::uint32_t warp_seed(std::uint32_t seed, int axis) {
-    return seed ^ (0x68e31da4u + static_cast<std::uint32_t>(axis) * 0x6c8e9cf5u);
-}
+std::uint32_t warp_seed(std::uint32_t seed, int axis);
 
 // Octaves ≥ 1 are shifted by o·(golden ratio − 1) cells along every axis, so that with an
 // integer lacunarity their lattices (where the basis is 0) never line up with the first
 // octave's: otherwise fBm is 0 and ridged is 1 on a regular grid of points.
 constexpr double kOctaveOffset = 0.6180339887498949;
-
-// The coordinate octave o samples. Octave 0 is exactly coordinate·frequency, so one octave of
-// fBm is the basis itself.
-template <class D> inline D octave_coordinate(D x, const FractalPlan& plan, int o) {
-    const D q = x * plan.frequency[o];
-    return o == 0 ? q : q + plan.offset[o];
-}
 
 // One sample of a basis at frequency 1, given the octave's key.
 float perlin2_at(std::uint32_t key, double x, double y);
@@ -57,6 +49,15 @@ float perlin4_at(std::uint32_t key, double x, double y, double z, double w);
 float simplex2_at(std::uint32_t key, double x, double y);
 float simplex3_at(std::uint32_t key, double x, double y, double z);
 float simplex4_at(std::uint32_t key, double x, double y, double z, double w);
+
+inline namespace FX_NOISE_ISA { // inline functions: one copy per instruction set (noise_kernels.hpp)
+
+// The coordinate octave o samples. Octave 0 is exactly coordinate·frequency, so one octave of
+// fBm is the basis itself.
+template <class D> inline D octave_coordinate(D x, const FractalPlan& plan, int o) {
+    const D q = x * plan.frequency[o];
+    return o == 0 ? q : q + plan.offset[o];
+}
 
 // |n| with the sign bit cleared (same in every lane type).
 template <class F> inline F abs_value(F n) { return as_f(as_u(n) & 0x7fffffffu); }
@@ -88,4 +89,5 @@ template <class F> inline F finish(F sum) {
     return select(mask_gt(minus_one, sum), minus_one, sum);
 }
 
+} // namespace FX_NOISE_ISA
 } // namespace fx::noise_detail

@@ -23,7 +23,18 @@
 #include <cstdint>
 #include <cstring>
 
+// The batch is compiled once per instruction set (noise_batch_impl.hpp); each build puts every
+// inline function of these headers in its own namespace, so the linker can never hand an AVX2
+// copy of one to the baseline code.
+#ifndef FX_NOISE_ISA
+#define FX_NOISE_ISA baseline
+#endif
+#ifndef FX_NOISE_LANES
+#define FX_NOISE_LANES 4 // SSE2 / NEON width; 8 lanes without AVX spill registers and run slower
+#endif
+
 namespace fx::noise_detail {
+inline namespace FX_NOISE_ISA {
 
 static_assert(FLT_EVAL_METHOD == 0, "noise needs IEEE single/double arithmetic without excess precision (SSE, not x87)");
 
@@ -83,7 +94,7 @@ using Q1 = std::uint64_t;
 
 #if defined(__GNUC__)
 #define FX_NOISE_HAVE_VECTOR 1
-constexpr int kLanes = 4; // SSE2 / NEON width; 8 lanes on SSE2 spill registers and run slower
+constexpr int kLanes = FX_NOISE_LANES;
 typedef float VecF __attribute__((vector_size(4 * kLanes)));
 typedef std::uint32_t VecU __attribute__((vector_size(4 * kLanes)));
 #else
@@ -151,13 +162,13 @@ inline VecU load_u(const std::uint32_t* p) {
 inline void store_f(float* p, VecF v) { std::memcpy(p, &v, sizeof v); }
 
 #if defined(FX_NOISE_BATCH)
-// Four double lanes as two 16-byte halves: without AVX, GCC turns 32-byte double compares into
-// four scalar ones, while 16-byte vectors map to single SSE2 / NEON instructions.
-static_assert(kLanes == 4, "VecD holds four lanes");
-typedef double VecD2 __attribute__((vector_size(16)));
-typedef std::uint64_t VecQ2 __attribute__((vector_size(16)));
-typedef double VecD4 __attribute__((vector_size(32))); // only inside narrow/low32
-typedef std::uint64_t VecQ4 __attribute__((vector_size(32)));
+// Double lanes as two halves of kLanes/2: without AVX, GCC turns 32-byte double compares into
+// scalar ones, while 16-byte vectors map to single SSE2 / NEON instructions (and 32-byte ones to
+// single AVX instructions in the AVX2 build).
+typedef double VecD2 __attribute__((vector_size(4 * kLanes)));
+typedef std::uint64_t VecQ2 __attribute__((vector_size(4 * kLanes)));
+typedef double VecD4 __attribute__((vector_size(8 * kLanes))); // only inside narrow/low32
+typedef std::uint64_t VecQ4 __attribute__((vector_size(8 * kLanes)));
 struct VecD {
     VecD2 lo, hi;
 };
@@ -191,9 +202,10 @@ inline VecU low32(VecQ q) { // truncation, per lane
     std::memcpy(&all, &q, sizeof all);
     return __builtin_convertvector(all, VecU);
 }
-inline VecD load_d(const double* p) {
+inline VecD load_d(const double* p) { // per half: one wide load each, no store-forwarding stall
     VecD v;
-    std::memcpy(&v, p, sizeof v);
+    std::memcpy(&v.lo, p, sizeof v.lo);
+    std::memcpy(&v.hi, p + kLanes / 2, sizeof v.hi);
     return v;
 }
 #endif
@@ -484,4 +496,5 @@ inline std::uint32_t mix_seed(std::uint32_t seed, int octave) {
     return h;
 }
 
+} // namespace FX_NOISE_ISA
 } // namespace fx::noise_detail
