@@ -445,6 +445,18 @@ template <class D> inline Floor<D> floor_split(D x) {
     return {r, low32(as_q(r + magic))};
 }
 
+// One lane: the same values, in a form the compiler keeps in SSE registers without branches
+// (maxsd/minsd for the clamp; r − 0.0 is r, −0 included).
+inline D1 clamp_coordinate(D1 x) {
+    x = x > -kMaxCoordinate ? x : -kMaxCoordinate;
+    return x < kMaxCoordinate ? x : kMaxCoordinate;
+}
+inline Floor<D1> floor_split(D1 x) {
+    double r = (x + kRoundMagic) - kRoundMagic;
+    r = r - (r > x ? 1.0 : 0.0);
+    return {r, low32(as_q(r + kRoundMagic))};
+}
+
 constexpr std::uint32_t kPrimes[4] = {kPrimeX, kPrimeY, kPrimeZ, kPrimeW};
 
 // One Perlin axis from a coordinate: the cell times the axis prime and the offset in the cell,
