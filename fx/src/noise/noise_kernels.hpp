@@ -124,10 +124,11 @@ inline D1 as_d(Q1 q) {
     std::memcpy(&d, &q, sizeof d);
     return d;
 }
-inline U1 mask_eq(U1 a, U1 b) { return a == b ? ~0u : 0u; }
-inline U1 mask_gt(F1 a, F1 b) { return a > b ? ~0u : 0u; }
-inline U1 mask_ge(F1 a, F1 b) { return a >= b ? ~0u : 0u; }
-inline Q1 mask_gt(D1 a, D1 b) { return a > b ? ~Q1(0) : Q1(0); }
+// (0 − bool rather than ?: so that the compiler does not branch on random hash bits)
+inline U1 mask_eq(U1 a, U1 b) { return 0u - static_cast<U1>(a == b); }
+inline U1 mask_gt(F1 a, F1 b) { return 0u - static_cast<U1>(a > b); }
+inline U1 mask_ge(F1 a, F1 b) { return 0u - static_cast<U1>(a >= b); }
+inline Q1 mask_gt(D1 a, D1 b) { return Q1(0) - static_cast<Q1>(a > b); }
 inline F1 splat_f(F1, float v) { return v; }
 inline U1 splat_u(U1, std::uint32_t v) { return v; }
 inline D1 splat_d(D1, double v) { return v; }
@@ -445,16 +446,27 @@ template <class D> inline Floor<D> floor_split(D x) {
     return {r, low32(as_q(r + magic))};
 }
 
-// One lane: the same values, in a form the compiler keeps in SSE registers without branches
-// (maxsd/minsd for the clamp; r − 0.0 is r, −0 included).
+// One lane: the same values in a form the compiler keeps in SSE registers, without branches on
+// the data (maxsd/minsd for the clamp; r − 0.0 is r, −0 included).
 inline D1 clamp_coordinate(D1 x) {
     x = x > -kMaxCoordinate ? x : -kMaxCoordinate;
     return x < kMaxCoordinate ? x : kMaxCoordinate;
 }
 inline Floor<D1> floor_split(D1 x) {
-    double r = (x + kRoundMagic) - kRoundMagic;
-    r = r - (r > x ? 1.0 : 0.0);
-    return {r, low32(as_q(r + kRoundMagic))};
+#if FX_NOISE_HAVE_VECTOR
+    // In a two-lane vector: GCC turns every scalar form of the correction into a branch, which
+    // random coordinates mispredict half the time.
+    typedef double Pair __attribute__((vector_size(16)));
+    typedef std::uint64_t PairMask __attribute__((vector_size(16)));
+    const Pair v = Pair{} + x, magic = Pair{} + kRoundMagic, one = Pair{} + 1.0;
+    Pair r = (v + magic) - magic;
+    r = r - (Pair)((PairMask)(r > v) & (PairMask)one);
+    const double value = r[0];
+#else
+    double value = (x + kRoundMagic) - kRoundMagic;
+    value = value - static_cast<double>(value > x);
+#endif
+    return {value, low32(as_q(value + kRoundMagic))};
 }
 
 constexpr std::uint32_t kPrimes[4] = {kPrimeX, kPrimeY, kPrimeZ, kPrimeW};
