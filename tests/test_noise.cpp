@@ -665,8 +665,17 @@ void check_batch_equals_scalar() {
                 p3[i] = {p[0], p[1], p[2]};
                 p4[i] = {p[0], p[1], p[2], p[3]};
             }
-            p3[5] = {0.0, -0.0, 3.0}; // zeros and lattice points
-            p3[6] = {far + 4.0, 5.0, -6.0};
+            // Signed zeros, lattice points, values just below a lattice plane (their offset
+            // rounds to 1.0f), on every axis.
+            const double special[] = {-0.0, 0.0, -1e-20, 1e-20, -1.0, 3.0, -0.5, far, far - 1e-9};
+            std::size_t next = 0;
+            for (double s0 : special)
+                for (double s1 : {-0.0, -1e-20, 0.25}) {
+                    p2[next] = {s0, s1};
+                    p3[next] = {s1, s0, -s0};
+                    p4[next] = {s1, -0.0, s0, s0};
+                    ++next;
+                }
             std::vector<float> b2(p2.size()), b3(p3.size()), b4(p4.size()), s2, s3, s4;
             fx::fill_points2(noise, f, p2.data(), p2.size(), b2.data());
             fx::fill_points3(noise, f, p3.data(), p3.size(), b3.data());

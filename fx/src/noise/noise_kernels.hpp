@@ -453,19 +453,12 @@ inline D1 clamp_coordinate(D1 x) {
     return x < kMaxCoordinate ? x : kMaxCoordinate;
 }
 inline Floor<D1> floor_split(D1 x) {
-#if FX_NOISE_HAVE_VECTOR
-    // In a two-lane vector: GCC turns every scalar form of the correction into a branch, which
-    // random coordinates mispredict half the time.
-    typedef double Pair __attribute__((vector_size(16)));
-    typedef std::uint64_t PairMask __attribute__((vector_size(16)));
-    const Pair v = Pair{} + x, magic = Pair{} + kRoundMagic, one = Pair{} + 1.0;
-    Pair r = (v + magic) - magic;
-    r = r - (Pair)((PairMask)(r > v) & (PairMask)one);
-    const double value = r[0];
-#else
-    double value = (x + kRoundMagic) - kRoundMagic;
-    value = value - static_cast<double>(value > x);
-#endif
+    // r > x exactly when x − r (exact) is negative: take its sign bit instead of comparing,
+    // since GCC compiles every scalar form of the comparison into a branch, which random
+    // coordinates mispredict half the time. + 0.0 turns the −0 of x = −0 into +0.
+    const double rounded = (x + kRoundMagic) - kRoundMagic;
+    const Q1 above = as_q((x - rounded) + 0.0) >> 63;
+    const double value = rounded - static_cast<double>(static_cast<int>(above));
     return {value, low32(as_q(value + kRoundMagic))};
 }
 
