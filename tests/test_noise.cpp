@@ -170,7 +170,7 @@ double simplex(std::uint32_t k, const double* p, int dim, double scale) {
     for (int a = 0; a < dim; ++a) s += p[a];
     s *= F;
     std::int64_t cell[4];
-    double t = 0.0, d0[4];
+    double t = 0.0, d0[4] = {0, 0, 0, 0};
     for (int a = 0; a < dim; ++a) {
         cell[a] = static_cast<std::int64_t>(std::floor(p[a] + s));
         t += static_cast<double>(cell[a]);
@@ -369,7 +369,7 @@ TEST_CASE("noise scale factors keep every gradient arrangement inside [-1, 1]", 
                 }
             } else { // u is a point of the skewed unit cell
                 const double G = (1.0 - 1.0 / std::sqrt(b.dim + 1.0)) / b.dim;
-                double su = 0.0, d0[4];
+                double su = 0.0, d0[4] = {0, 0, 0, 0};
                 for (int a = 0; a < b.dim; ++a) su += u[a];
                 for (int a = 0; a < b.dim; ++a) d0[a] = u[a] - su * G;
                 int order[4];
@@ -404,7 +404,7 @@ TEST_CASE("simplex kernels vanish outside the simplices around their corner, so 
         const double G = (1.0 - 1.0 / std::sqrt(dim + 1.0)) / dim;
         double nearest = 1e9;
         for (int i = 0; i < 4000; ++i) {
-            double u[4], d0[4], su = 0.0;
+            double u[4] = {0, 0, 0, 0}, d0[4] = {0, 0, 0, 0}, su = 0.0;
             for (int a = 0; a < dim; ++a) su += (u[a] = u01(rng));
             for (int a = 0; a < dim; ++a) d0[a] = u[a] - su * G;
             int order[4];

@@ -19,15 +19,16 @@
 // Ranges (checked by tests over millions of samples, and by an analytic bound):
 //   perlin2/3/4, simplex2/3/4: [-1, 1], 0 at the lattice points (Perlin: integer coordinates;
 //     simplex: the skewed lattice's vertices). Each is scaled so its supremum over every
-//     gradient arrangement is 1 − 2⁻¹⁶; the standard deviation of samples is 0.19 (perlin4) to
-//     0.54 (simplex2), listed per basis in docs/noise.md.
+//     gradient arrangement is 1 − 2⁻¹⁶ (perlin4 stays within about ±0.74 in practice); the
+//     standard deviation of samples is 0.19 (perlin4) to 0.54 (simplex2), per basis in
+//     docs/noise.md.
 //   fractal fbm and ridged: [-1, 1]; turbulence: [0, 1].
 // Continuity: every function is continuous with a bounded slope (Perlin ≲ 3.1, simplex ≲ 7.4
 //   output units per input unit at frequency 1); Perlin is C², simplex C³.
 // Determinism: a value depends only on the seed, the basis, the fractal settings and the
 //   coordinates: the same on every platform with IEEE float/double (SSE or NEON, not x87) and
 //   the default floating-point environment, for every batch size and path. Hashing is unsigned
-//   32-bit arithmetic; there are no tables, no std::hash, no randomness. Batch fills give the
+//   32-bit arithmetic; no permutation or gradient tables, no std::hash, no randomness. Batch fills give the
 //   scalar results exactly.
 // Far from the origin: coordinates are doubles; the integer cell and the offset in it are split
 //   in double before anything is narrowed to float, so noise at x = 1e7 is as smooth as at 1. The

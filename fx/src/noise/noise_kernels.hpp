@@ -1,7 +1,7 @@
 // cellfx — the noise kernels shared by scalar and batch evaluation (private to fx/src/noise).
 //
 // Based on: Perlin 2002, "Improving Noise" (SIGGRAPH 2002): the quintic fade 6t⁵ − 15t⁴ + 10t³
-// and the 12 cube-edge gradients padded to 16 (§2, §3); Gustavson 2005, "Simplex noise
+// and the 12 cube-edge gradients padded to 16; Gustavson 2005, "Simplex noise
 // demystified": the skewed simplex lattice, the rank ordering of 3-D and 4-D, the radial kernel
 // (r² − d²)⁴; the hashed lattice of FastNoise Lite (Peck 2020, MIT licence): a prime per axis,
 // xor, one multiply, in place of Perlin's permutation table.
@@ -92,7 +92,7 @@ using U1 = std::uint32_t;
 using D1 = double;
 using Q1 = std::uint64_t;
 
-#if defined(__GNUC__)
+#if defined(__GNUC__) && !defined(FX_NOISE_NO_VECTOR) // FX_NOISE_NO_VECTOR: try the one-lane path
 #define FX_NOISE_HAVE_VECTOR 1
 constexpr int kLanes = FX_NOISE_LANES;
 typedef float VecF __attribute__((vector_size(4 * kLanes)));
