@@ -7,9 +7,11 @@
 #include <glm/geometric.hpp>
 
 #include "fx/face_topology.hpp"
+#include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/tetrahedralize.hpp"
 #include "mesh_builders.hpp"
+#include "test_paths.hpp"
 
 namespace {
 
@@ -187,4 +189,46 @@ TEST_CASE("hexahedra give 5 or 6 tetrahedra, pyramids 2, wedges 3", "[mesh][tetr
     CHECK(five > 0);
     CHECK(six > 0);
     CHECK(five + six == 40320);
+}
+
+TEST_CASE("consistent tetrahedra on whole real meshes: no internal triangle left unmatched", "[mesh][tetrahedralize]") {
+    struct RealMesh {
+        const char* xyz;
+        const char* q;
+    };
+    for (const RealMesh& file : {RealMesh{"content/meshes/blunt_fin/bluntfinxyz.bin", "content/meshes/blunt_fin/bluntfinq.bin"},
+                                 RealMesh{"content/meshes/hexa_grid/hexa.vtk", ""}}) {
+        CAPTURE(file.xyz);
+        const fx::CellMesh mesh = fx::read_mesh(fx_test::source_path(file.xyz), file.q[0] ? fx_test::source_path(file.q) : "");
+        REQUIRE(fx::validate_mesh(mesh).empty());
+        const fx::FaceTopology before = fx::build_face_topology(mesh);
+        std::vector<std::uint32_t> parent;
+        const fx::CellMesh tets = fx::tetrahedralize(mesh, &parent);
+        const fx::FaceTopology after = fx::build_face_topology(tets);
+        // Each quad shared by two hexahedra was cut the same way from both sides, so all its
+        // triangles pair up: what is left unmatched is exactly the outer surface.
+        CHECK(after.non_manifold_faces == 0);
+        CHECK(boundary_triangles(tets, after) == boundary_triangles(mesh, before));
+        // The blunt fin's leading edge is collapsed (distinct points at one position), so a
+        // tetrahedron using two of them is flat; every other one must be positive.
+        auto has_coincident_points = [&tets](std::size_t t) {
+            const std::uint32_t* v = tets.cell_vertices(t);
+            for (int i = 0; i < 4; ++i)
+                for (int j = i + 1; j < 4; ++j)
+                    if (tets.points[v[i]] == tets.points[v[j]]) return true;
+            return false;
+        };
+        double parents = 0.0, children = 0.0;
+        std::size_t inverted = 0, flat_without_reason = 0;
+        for (std::size_t t = 0; t < tets.cell_count(); ++t) {
+            const double v = fx::cell_signed_volume(tets, t);
+            inverted += v < 0.0;
+            flat_without_reason += v == 0.0 && !has_coincident_points(t);
+            children += v;
+        }
+        CHECK(flat_without_reason == 0);
+        for (std::size_t c = 0; c < mesh.cell_count(); ++c) parents += volume_by_face_triangles(mesh, c);
+        CHECK(inverted == 0);
+        CHECK(children == Approx(parents).epsilon(1e-9));
+    }
 }

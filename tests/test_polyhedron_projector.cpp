@@ -251,27 +251,115 @@ TEST_CASE("near-plane caps sweep out each cell's volume", "[projector]") {
     }
 }
 
-TEST_CASE("footprint batches never overlap", "[projector]") {
-    std::mt19937 rng(3);
-    std::uniform_int_distribution<int> pos(0, 120), size(0, 30);
-    std::vector<fx::ScreenRect> rects;
-    for (int i = 0; i < 500; ++i) {
-        const int x = pos(rng), y = pos(rng);
-        rects.push_back({x, y, std::min(127, x + size(rng)), std::min(127, y + size(rng))});
+namespace {
+
+// Does the ray through pixel (x, y) meet the cell's part beyond the near plane? Ray against the
+// cell's face planes (convex cell), independent of how footprints are computed.
+bool ray_meets_visible_cell(const fx::ProjectorGeometry& g, const fx::ProjectorView& view, const fx::Camera& camera,
+                            std::size_t cell, int x, int y, int width, int height) {
+    const fx::Ray ray = camera.pixel_ray(x + 0.5, y + 0.5, width, height);
+    const glm::dvec3 o = ray.origin - g.origin, d = ray.direction;
+    double t0 = 0.0, t1 = 1e30;
+    // Beyond the near plane: view.depth(o + t d) >= 0.
+    const double d0 = view.depth(o), dd = glm::dot(d, view.forward);
+    if (std::fabs(dd) < 1e-15) {
+        if (d0 < 0.0) return false;
+    } else {
+        (dd > 0.0 ? t0 : t1) = (dd > 0.0 ? std::max(t0, -d0 / dd) : std::min(t1, -d0 / dd));
     }
-    rects.push_back(fx::ScreenRect{}); // empty: not drawn
+    for (std::uint32_t t = g.cell_first_triangle[cell]; t < g.cell_first_triangle[cell + 1]; ++t) {
+        const glm::dvec3 n(g.triangle_planes[t]);
+        if (glm::dot(n, n) == 0.0) continue;
+        const double side = glm::dot(n, o) - g.triangle_planes[t].w, rate = glm::dot(n, d);
+        if (std::fabs(rate) < 1e-15) {
+            if (side > 0.0) return false;
+            continue;
+        }
+        const double hit = -side / rate;
+        if (rate > 0.0) t1 = std::min(t1, hit);
+        else t0 = std::max(t0, hit);
+    }
+    return t1 > t0 + 1e-9;
+}
+
+} // namespace
+
+TEST_CASE("footprints cover every pixel a cell covers, and batches share no tile", "[projector]") {
+    fx::CellMesh mesh = fx_test::mixed_box(3);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> jitter(-0.03, 0.03), unit(-1.0, 1.0);
+    for (glm::dvec3& p : mesh.points) p += glm::dvec3(jitter(rng), jitter(rng), jitter(rng));
+    REQUIRE(fx::orient_cells(mesh).degenerate.empty());
+    const fx::ProjectorGeometry g = fx::build_projector_geometry(mesh, nullptr);
+    const int width = 48, height = 40;
+    std::size_t tested_pixels = 0, caps_seen = 0;
+    for (int view_no = 0; view_no < 12; ++view_no) {
+        CAPTURE(view_no);
+        fx::Camera cam;
+        // Outside views, and views from inside the box so the near plane cuts cells.
+        const double distance = view_no % 3 == 0 ? 0.3 : 2.5;
+        cam.eye = glm::dvec3(0.5) + distance * glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+        cam.target = glm::dvec3(0.5) + 0.2 * glm::dvec3(unit(rng), unit(rng), unit(rng));
+        cam.up = {0, 0, 1};
+        cam.fov_y_degrees = 50.0;
+        cam.near_distance = view_no % 3 == 0 ? 0.15 : 0.1;
+        if (view_no == 4) cam.ortho_height = 2.0;
+        const fx::ProjectorView view = fx::make_projector_view(g, cam);
+        fx::ProjectedCells projected;
+        fx::project_cells(mesh, g, view, projected);
+        fx::NearCaps caps;
+        fx::build_near_caps(g, view, projected, caps);
+        caps_seen += caps.polygon_count();
+        const glm::dmat4 vp = cam.projection_matrix(double(width) / height) * view.view;
+        for (int tile : {1, 4, 7}) {
+            CAPTURE(tile);
+            fx::CellFootprints fp;
+            fx::cell_footprints(mesh, g, view, vp, projected, caps, width, height, tile, fp);
+            REQUIRE(fp.cell_count() == mesh.cell_count());
+            std::vector<std::uint32_t> batch;
+            const std::uint32_t batches = fx::batch_footprints(fp, batch);
+            // Every pixel whose ray meets a cell's visible part lies in one of its tiles.
+            for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+                std::vector<char> in_footprint(std::size_t(fp.tiles_x) * fp.tiles_y, 0);
+                for (std::uint32_t k = fp.first_span[c]; k < fp.first_span[c + 1]; ++k)
+                    for (int x = fp.spans[k].first; x <= fp.spans[k].last; ++x)
+                        in_footprint[std::size_t(fp.spans[k].row) * fp.tiles_x + x] = 1;
+                for (int y = 0; y < height; ++y)
+                    for (int x = 0; x < width; ++x) {
+                        if (!ray_meets_visible_cell(g, view, cam, c, x, y, width, height)) continue;
+                        ++tested_pixels;
+                        CAPTURE(c, x, y);
+                        REQUIRE(in_footprint[std::size_t(y / tile) * fp.tiles_x + x / tile]);
+                        REQUIRE(batch[c] != fx::kNoBatch);
+                    }
+            }
+            // No two cells of one batch touch the same tile.
+            std::vector<std::vector<std::uint32_t>> owner(batches, std::vector<std::uint32_t>(
+                                                                        std::size_t(fp.tiles_x) * fp.tiles_y, fx::kNoBatch));
+            for (std::size_t c = 0; c < mesh.cell_count(); ++c)
+                for (std::uint32_t k = fp.first_span[c]; k < fp.first_span[c + 1]; ++k)
+                    for (int x = fp.spans[k].first; x <= fp.spans[k].last; ++x) {
+                        std::uint32_t& o = owner[batch[c]][std::size_t(fp.spans[k].row) * fp.tiles_x + x];
+                        REQUIRE(o == fx::kNoBatch);
+                        o = std::uint32_t(c);
+                    }
+        }
+    }
+    CHECK(tested_pixels > 10000);
+    CHECK(caps_seen > 0);
+
+    // The same footprint 100 times needs 100 batches (two pages of masks).
+    fx::CellFootprints same;
+    same.tile = 8, same.tiles_x = 8, same.tiles_y = 8;
+    same.first_span = {0};
+    for (int c = 0; c < 100; ++c) {
+        same.spans.push_back({2, 1, 3});
+        same.spans.push_back({3, 2, 2});
+        same.first_span.push_back(std::uint32_t(same.spans.size()));
+    }
     std::vector<std::uint32_t> batch;
-    const std::uint32_t n = fx::batch_footprints(rects, 128, 128, 4, batch);
+    CHECK(fx::batch_footprints(same, batch) == 100);
+    same.first_span.push_back(same.first_span.back()); // an empty footprint is not drawn
+    fx::batch_footprints(same, batch);
     CHECK(batch.back() == fx::kNoBatch);
-    CHECK(n > 1);
-    CHECK(n < 200); // more than 64 would exercise the second page of masks anyway
-    auto overlap = [](const fx::ScreenRect& a, const fx::ScreenRect& b) {
-        return a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
-    };
-    for (std::size_t i = 0; i + 1 < rects.size(); ++i)
-        for (std::size_t j = i + 1; j + 1 < rects.size(); ++j)
-            if (batch[i] == batch[j]) CHECK_FALSE(overlap(rects[i], rects[j]));
-    // The same rectangle 100 times needs 100 batches (two pages of masks).
-    std::vector<fx::ScreenRect> same(100, fx::ScreenRect{10, 10, 20, 20});
-    CHECK(fx::batch_footprints(same, 64, 64, 8, batch) == 100);
 }

@@ -17,5 +17,12 @@ namespace cellfx_cli {
 
 // `cellfx bench scanline`: the synthetic nine-grid data set of Wilhelms et al. Table 3.
 int bench_scanline(const std::vector<std::string>& args);
+// `cellfx bench pcp`: cells per second of the GPU cell-projection paths (Roettger & Ertl §4).
+int bench_pcp(const std::vector<std::string>& args);
+// `cellfx bench terrain`: continuous LOD, pixels changed, fog valley fps (Roettger et al. 1998, §5).
+int bench_terrain(const std::vector<std::string>& args);
+
+// `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
+int bench_sort(const std::vector<std::string>& args);
 
 } // namespace cellfx_cli

@@ -8,20 +8,26 @@
 
 #include "commands.hpp"
 #include "fx/camera.hpp"
+#include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
+#include "fx/headless_context.hpp"
 #include "fx/image.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/transfer_function.hpp"
 #include "options.hpp"
+#include "terrain/scene.hpp"
+#include "terrain/scene_renderer.hpp"
 
 namespace cellfx_cli {
 namespace {
 
 constexpr const char* kUsage =
     "usage: cellfx render FILE [Q_FILE] --out FILE.png|FILE.pfm [options]\n"
-    "  --path NAME        render path: scanline (CPU reference, default)\n"
+    "  --path NAME        render path: scanline (CPU reference, default), or a GPU path\n"
+    "                     (headless OpenGL 4.5): pcp (classic, 8-bit), pcp-exact, mip\n"
     "  --model NAME       scanline optical model: absorption (default), emission, max\n"
+    "  --fog              pcp-exact: also absorb (one-colour medium, bg·e^-tau + c·(1 - e^-tau))\n"
     "  --scalar NAME      point field to render (default: the first)\n"
     "  --tf FILE          transfer function JSON (default: a built-in blue-to-red ramp);\n"
     "                     a normalized one is mapped onto the field's range\n"
@@ -31,12 +37,63 @@ constexpr const char* kUsage =
     "  --near D           near-plane distance (overrides the camera's)\n"
     "  --size WxH         image size (default 512x512)\n"
     "  --background R,G,B background colour in [0,1] (default 0,0,0)\n"
-    "  --threads N        scan-line worker threads (default: all cores)";
+    "  --threads N        scan-line worker threads (default: all cores)\n"
+    "\n"
+    "usage: cellfx render SCENE.json --out FILE.png|FILE.pfm [options]   (terrain scenes, docs/terrain.md)\n"
+    "  --path NAME        override the fog's render path: pcp, pcp-exact, mip\n"
+    "  --camera SPEC      override the scene's camera (as above)\n"
+    "  --size WxH         override the scene's image size\n"
+    "  --pixel-error PX   override the LOD's screen-space error bound";
+
+// `cellfx render SCENE.json`: a terrain scene (terrain/scene.hpp) in a headless context.
+int render_scene_file(const ParsedArgs& parsed) {
+    require_known(parsed, {"path", "camera", "size", "pixel-error", "out"});
+    if (parsed.positional.size() != 1) throw fx::Error("expected one SCENE.json");
+    const std::string out = parsed.get("out");
+    if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
+    const auto t0 = std::chrono::steady_clock::now();
+    const fx::HeadlessContext context;
+    terrain::Scene scene = terrain::load_scene(parsed.positional[0]);
+    const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (parsed.has("camera")) scene.camera = fx::Camera::parse(parsed.get("camera"));
+    if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
+    if (parsed.has("pixel-error")) {
+        scene.pixel_error = parse_double(parsed.get("pixel-error"), "--pixel-error");
+        if (!(scene.pixel_error > 0.0)) throw fx::Error("--pixel-error must be positive");
+    }
+    if (parsed.has("path")) {
+        fx::RenderPath path;
+        if (!fx::parse_render_path(parsed.get("path"), path))
+            throw fx::Error("--path: unknown render path '" + parsed.get("path") + "' (expected pcp, pcp-exact, mip)");
+        if (!scene.fog) throw fx::Error("--path: the scene has no fog to render");
+        scene.fog->path = path;
+    }
+    terrain::SceneRenderer renderer(scene);
+    terrain::FrameStats stats;
+    const fx::Image image = renderer.render_to_image(scene.camera, scene.width, scene.height, &stats);
+    fx::write_image(image, out);
+    std::printf("wrote %s (%dx%d, %s%s%s)\n", out.c_str(), scene.width, scene.height,
+                scene.fog ? ("fog " + std::string(fx::render_path_name(scene.fog->path))).c_str() : "no fog",
+                scene.aurora ? ", aurora " : "", scene.aurora ? fx::render_path_name(scene.aurora->path) : "");
+    std::printf("  %-22s %10.2f ms\n", "load scene", load_ms);
+    std::printf("  %-22s %10.2f ms\n", "LOD update", stats.lod_ms);
+    std::printf("  %-22s %10.2f ms\n", "LOD mesh + prisms", stats.mesh_ms);
+    std::printf("  %-22s %10.2f ms\n", "prism upload", stats.upload_ms);
+    std::printf("  %-22s %10.2f ms\n", "draw (to glFinish)", stats.draw_ms);
+    std::printf("  %-22s %10zu of %zu at full resolution\n", "terrain triangles", stats.terrain_lod.triangles,
+                renderer.terrain_lod().full_resolution_triangles());
+    std::printf("  %-22s %10zu\n", "fog prisms", stats.fog_prisms.prisms);
+    std::printf("  %-22s %10zu\n", "aurora prisms", stats.aurora_prisms.prisms);
+    std::printf("  %-22s %10zu\n", "near-plane caps", stats.fog.caps + stats.aurora.caps);
+    std::printf("  gl: %s\n", context.description().c_str());
+    return 0;
+}
 
 struct Frame {
     fx::Image image;
     std::vector<std::pair<std::string, double>> milliseconds; // stage → ms
     std::vector<std::pair<std::string, double>> counts;       // statistic → value
+    std::vector<std::string> notes;                           // printed after the figures
 };
 
 struct RenderJob {
@@ -47,6 +104,7 @@ struct RenderJob {
     int width, height;
     fx::OpticalModel model;
     unsigned threads;
+    bool fog;
 };
 
 Frame render_scanline(const RenderJob& job) {
@@ -73,12 +131,44 @@ Frame render_scanline(const RenderJob& job) {
     return frame;
 }
 
+// One frame of a GPU cell-projection path in a headless context, timed on the GPU.
+Frame render_gpu(const RenderJob& job, fx::RenderPath path) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const fx::HeadlessContext context;
+    const auto t1 = std::chrono::steady_clock::now();
+    fx::CellRenderer renderer(*job.mesh, job.field->name, job.tf);
+    const auto t2 = std::chrono::steady_clock::now();
+    fx::CellRenderOptions options;
+    options.fog = job.fog;
+    options.timing = true;
+    fx::CellRenderStats stats;
+    Frame frame;
+    frame.image = renderer.render_to_image(job.camera, job.width, job.height, path, options, &stats);
+    const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    frame.milliseconds = {{"context", ms(t0, t1)},
+                          {"setup (upload)", ms(t1, t2)},
+                          {"frame cpu", stats.cpu_ms},
+                          {"frame gpu", stats.gpu_ms}};
+    frame.counts = {{"cells", double(stats.cells)},       {"cells drawn", double(stats.cells_drawn)},
+                    {"near-plane caps", double(stats.caps)}, {"batches", double(stats.batches)},
+                    {"draw calls", double(stats.draw_calls)}, {"gpu MB", double(renderer.gpu_bytes()) / 1e6}};
+    frame.notes = {"gl: " + context.description()};
+    return frame;
+}
+
 // The render paths this build offers, by --path name.
 const std::map<std::string, std::function<Frame(const RenderJob&)>>& render_paths() {
     static const std::map<std::string, std::function<Frame(const RenderJob&)>> paths = {
         {"scanline", render_scanline},
     };
-    return paths;
+    static const auto all = [] {
+        auto with_gpu = paths;
+        // Every GPU path fx::CellRenderer offers, under its own name.
+        for (const fx::RenderPath path : fx::kRenderPaths)
+            with_gpu[fx::render_path_name(path)] = [path](const RenderJob& job) { return render_gpu(job, path); };
+        return with_gpu;
+    }();
+    return all;
 }
 
 fx::OpticalModel parse_model(const std::string& name) {
@@ -104,13 +194,16 @@ fx::TransferFunction scale_extinction(const fx::TransferFunction& tf, double k) 
 } // namespace
 
 int run_render(const std::vector<std::string>& args) {
-    const ParsedArgs parsed = parse_args(args, {"help"});
+    const ParsedArgs parsed = parse_args(args, {"help", "fog"});
     if (parsed.has("help")) {
         std::puts(kUsage);
         return 0;
     }
+    if (parsed.positional.size() == 1 && parsed.positional[0].size() > 5 &&
+        parsed.positional[0].compare(parsed.positional[0].size() - 5, 5, ".json") == 0)
+        return render_scene_file(parsed);
     require_known(parsed, {"path", "model", "scalar", "tf", "density", "camera", "near", "size", "background",
-                           "threads", "out"});
+                           "threads", "fog", "out"});
     if (parsed.positional.empty() || parsed.positional.size() > 2) throw fx::Error("expected FILE [Q_FILE]\n" + std::string(kUsage));
     const std::string out = parsed.get("out");
     if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
@@ -135,7 +228,9 @@ int run_render(const std::vector<std::string>& args) {
         throw fx::Error("--scalar: no field '" + scalar + "' (the mesh has: " + names + ")");
     }
 
-    RenderJob job{&mesh, field, default_transfer_function(), {}, 512, 512, fx::OpticalModel::EmissionAbsorption, 0};
+    RenderJob job{&mesh, field, default_transfer_function(), {}, 512, 512, fx::OpticalModel::EmissionAbsorption, 0,
+                  parsed.has("fog")};
+    if (job.fog && path_name != "pcp-exact") throw fx::Error("--fog is an option of --path pcp-exact");
     if (parsed.has("tf")) job.tf = fx::TransferFunction::read_json(parsed.get("tf"));
     if (job.tf.normalized()) {
         const fx::ScalarRange r = fx::scalar_range(*field);
@@ -170,6 +265,7 @@ int run_render(const std::vector<std::string>& args) {
     std::printf("  %-20s %10.2f ms\n", "load mesh", load_ms);
     for (const auto& [stage, ms] : frame.milliseconds) std::printf("  %-20s %10.2f ms\n", stage.c_str(), ms);
     for (const auto& [name, value] : frame.counts) std::printf("  %-20s %10.6g\n", name.c_str(), value);
+    for (const std::string& note : frame.notes) std::printf("  %s\n", note.c_str());
     return 0;
 }
 

@@ -6,17 +6,17 @@
 // pass. Drawing one cell per pass costs 3 draw calls per cell; instead, cells whose screen
 // rectangles are disjoint go into one batch and each pass draws a whole batch at once.
 //
-// How: each cell's footprint is the pixel rectangle around the visible part of the cell (its
-// vertices beyond the near plane plus its near-plane cap), grown by one pixel and rounded out
-// to tiles of `tile` pixels. Cells are assigned first-fit, in mesh order, to the first batch
-// whose occupied tiles they do not touch (a 64-bit mask of batches per tile and page of 64
-// batches). Rectangles are conservative, so cells in one batch never share a pixel.
+// How: each cell's footprint is the set of screen tiles (`tile` × `tile` pixels) that the
+// convex hull of its visible part (its vertices beyond the near plane plus its near-plane cap)
+// touches, grown by one pixel: per tile row, the one run of tiles the hull meets there. Cells
+// are assigned first-fit, in mesh order, to the first batch that has none of their tiles (a
+// 64-bit mask of batches per tile and page of 64 batches). Footprints are conservative, so
+// cells in one batch never share a pixel.
 //
 // Limits: the number of batches is at least the largest number of cells covering one tile
-// (the depth complexity) and, because rectangles overestimate projected cells, usually a small
-// factor more; a structured grid seen along a diagonal gives roughly (cells along the view)
-// × 2–4 batches. A cell covering the whole screen (camera inside the mesh) forms a batch of
-// its own. CPU cost per frame: O(cells × tiles touched).
+// (the depth complexity), and more where the first-fit order packs badly or thin cells cross
+// many tiles diagonally. A cell covering the whole screen (camera inside the mesh) forms a
+// batch of its own. CPU cost per frame: O(cell vertices + tiles touched).
 #pragma once
 
 #include <cstddef>
@@ -30,25 +30,34 @@
 
 namespace fx {
 
-// Inclusive pixel ranges; empty (not drawn) when x1 < x0 or y1 < y0.
-struct ScreenRect {
-    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
-    bool empty() const { return x1 < x0 || y1 < y0; }
+// Tile runs, one per tile row a cell touches: tiles [first, last] of row `row`.
+struct TileSpan {
+    std::uint16_t row = 0, first = 0, last = 0;
 };
 
-// Pixel rectangle of each cell's visible part on a width × height viewport; empty for cells
-// wholly in front of the near plane, beyond the far plane or outside the viewport.
-// `view_projection` maps the geometry's relative frame to clip space. `caps` must be the
-// caps of `projected` (build_near_caps).
+// The footprints of all cells: cell c touches spans [first_span[c], first_span[c + 1]).
+struct CellFootprints {
+    int tile = 1;                          // tile size in pixels
+    int tiles_x = 0, tiles_y = 0;          // tiles across the viewport
+    std::vector<std::uint32_t> first_span; // cell_count + 1 entries
+    std::vector<TileSpan> spans;
+
+    std::size_t cell_count() const { return first_span.empty() ? 0 : first_span.size() - 1; }
+    bool empty(std::size_t cell) const { return first_span[cell] == first_span[cell + 1]; }
+};
+
+// The tile footprint of each cell's visible part on a width × height viewport; empty for
+// cells wholly in front of the near plane, beyond the far plane or outside the viewport.
+// `view_projection` maps the geometry's relative frame to clip space. `caps` must be the caps
+// of `projected` (build_near_caps). tile ≥ 1 pixels; width, height ≤ 65535·tile.
 void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, const ProjectorView& view,
                      const glm::dmat4& view_projection, const ProjectedCells& projected, const NearCaps& caps,
-                     int width, int height, std::vector<ScreenRect>& out);
+                     int width, int height, int tile, CellFootprints& out);
 
 constexpr std::uint32_t kNoBatch = 0xFFFFFFFFu;
 
-// First-fit batches of non-overlapping rectangles. batch_of[i] = batch of rect i, kNoBatch for
-// empty ones. Returns the number of batches. tile ≥ 1 pixels.
-std::uint32_t batch_footprints(const std::vector<ScreenRect>& rects, int width, int height, int tile,
-                               std::vector<std::uint32_t>& batch_of);
+// First-fit batches of footprints that share no tile. batch_of[c] = batch of cell c, kNoBatch
+// for empty footprints. Returns the number of batches.
+std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std::uint32_t>& batch_of);
 
 } // namespace fx

@@ -1,68 +1,110 @@
 // Based on: Max, Williams & Silva 2000, §III (visibility sorting).
+//
+// The method switch: key sorts (centroid, power) in key_sort.cpp, the face-graph topological
+// sort (mpvo) in face_graph.cpp, and its exterior edges (xmpvo) in exterior_faces.cpp.
 #include "fx/visibility_sort.hpp"
 
-#include <algorithm>
 #include <chrono>
-#include <numeric>
+#include <string>
 
-#include <glm/geometric.hpp>
-
+#include "exterior_faces.hpp"
+#include "face_graph.hpp"
 #include "fx/error.hpp"
+#include "fx/face_topology.hpp"
+#include "key_sort.hpp"
 
 namespace fx {
+namespace {
+
+void check_vertex_indices(const CellMesh& mesh) {
+    if (mesh.cell_offsets.size() != mesh.cell_count() + 1) {
+        throw Error("visibility sort: mesh has " + std::to_string(mesh.cell_count()) + " cells but " +
+                    std::to_string(mesh.cell_offsets.size()) + " cell offsets");
+    }
+    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+        const std::uint32_t* v = mesh.cell_vertices(c);
+        for (int i = 0; i < cell_vertex_count(mesh.cell_types[c]); ++i) {
+            if (v[i] >= mesh.point_count()) {
+                throw Error("visibility sort: cell " + std::to_string(c) + ": vertex " + std::to_string(i) +
+                            " is point " + std::to_string(v[i]) + " but the mesh has " +
+                            std::to_string(mesh.point_count()) + " points");
+            }
+        }
+    }
+}
+
+} // namespace
 
 const char* sort_method_name(SortMethod method) {
     switch (method) {
     case SortMethod::Centroid: return "centroid";
+    case SortMethod::Mpvo: return "mpvo";
+    case SortMethod::Xmpvo: return "xmpvo";
+    case SortMethod::Power: return "power";
     }
     return "unknown";
 }
 
 bool parse_sort_method(std::string_view name, SortMethod& method) {
-    if (name == "centroid") method = SortMethod::Centroid;
-    else return false;
-    return true;
+    for (SortMethod m : all_sort_methods()) {
+        if (name == sort_method_name(m)) {
+            method = m;
+            return true;
+        }
+    }
+    return false;
+}
+
+const std::vector<SortMethod>& all_sort_methods() {
+    static const std::vector<SortMethod> methods = {SortMethod::Centroid, SortMethod::Mpvo, SortMethod::Xmpvo,
+                                                    SortMethod::Power};
+    return methods;
 }
 
 VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method) : mesh_(mesh), method_(method) {
-    centroids_.resize(mesh.cell_count());
-    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
-        const std::uint32_t* v = mesh.cell_vertices(c);
-        const int n = cell_vertex_count(mesh.cell_types[c]);
-        glm::dvec3 sum(0.0);
-        for (int i = 0; i < n; ++i) {
-            if (v[i] >= mesh.point_count())
-                throw Error("visibility sort: cell " + std::to_string(c) + ": vertex index out of range");
-            sum += mesh.points[v[i]];
-        }
-        centroids_[c] = sum / double(n);
+    const auto t0 = std::chrono::steady_clock::now();
+    check_vertex_indices(mesh);
+    switch (method) {
+    case SortMethod::Centroid:
+        keys_ = std::make_shared<sort_detail::KeySort>(mesh, sort_detail::KeySort::Kind::Centroid);
+        break;
+    case SortMethod::Power:
+        keys_ = std::make_shared<sort_detail::KeySort>(mesh, sort_detail::KeySort::Kind::Power);
+        break;
+    case SortMethod::Mpvo:
+    case SortMethod::Xmpvo: {
+        const FaceTopology topology = build_face_topology(mesh);
+        graph_ = std::make_shared<sort_detail::FaceGraph>(mesh, topology);
+        if (method == SortMethod::Xmpvo) exterior_ = std::make_shared<sort_detail::ExteriorFaces>(mesh, topology);
+        break;
     }
+    }
+    setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void VisibilitySort::sort(const Camera& camera, std::vector<std::uint32_t>& back_to_front, SortStats* stats) const {
     const auto t0 = std::chrono::steady_clock::now();
-    const std::size_t n = mesh_.cell_count();
-    // Key: squared distance from the eye (perspective) or depth along the view (orthographic);
-    // larger keys are farther and come first.
-    std::vector<std::pair<double, std::uint32_t>> keyed(n);
-    const glm::dvec3 forward = camera.forward();
-    for (std::size_t c = 0; c < n; ++c) {
-        const glm::dvec3 d = centroids_[c] - camera.eye;
-        const double key = camera.orthographic() ? glm::dot(d, forward) : glm::dot(d, d);
-        keyed[c] = {key, static_cast<std::uint32_t>(c)};
+    SortStats s;
+    if (keys_) {
+        keys_->sort(camera, back_to_front, s);
+    } else {
+        sort_detail::ExteriorEdges exterior;
+        if (exterior_) exterior_->edges(camera, exterior, s);
+        graph_->sort(camera, exterior_ ? &exterior : nullptr, back_to_front, s);
     }
-    std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
-        return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-    back_to_front.resize(n);
-    for (std::size_t i = 0; i < n; ++i) back_to_front[i] = keyed[i].second;
-    if (stats) {
-        stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        stats->cells = n;
-        stats->cycles = 0;
-    }
+    s.cells = back_to_front.size();
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (stats) *stats = s;
 }
 
-std::size_t VisibilitySort::memory_bytes() const { return centroids_.capacity() * sizeof(glm::dvec3); }
+std::size_t VisibilitySort::memory_bytes() const {
+    std::size_t bytes = 0;
+    if (keys_) bytes += keys_->memory_bytes();
+    if (graph_) bytes += graph_->memory_bytes();
+    if (exterior_) bytes += exterior_->memory_bytes();
+    return bytes;
+}
+
+std::size_t VisibilitySort::boundary_triangle_count() const { return exterior_ ? exterior_->triangle_count() : 0; }
 
 } // namespace fx

@@ -1,0 +1,42 @@
+// Based on: Max, Williams & Silva 2000, §III (XMPVO, after Silva, Mitchell & Williams 1998).
+//
+// The boundary faces of a mesh and, per view, the exterior edges that make MPVO exact on
+// non-convex meshes: wherever a viewing ray leaves the mesh through a boundary face g of cell
+// B and later meets a boundary face f of cell A that faces the eye, with g nearer, A must be
+// drawn before B. Private to the sort module.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "face_graph.hpp"
+#include "fx/camera.hpp"
+#include "fx/cell_mesh.hpp"
+#include "fx/face_topology.hpp"
+#include "fx/visibility_sort.hpp"
+
+namespace fx::sort_detail {
+
+class ExteriorFaces {
+public:
+    // Keeps a reference to the mesh (its points are read per view).
+    ExteriorFaces(const CellMesh& mesh, const FaceTopology& topology);
+
+    // The exterior edges for this view. Fills stats' exterior_* counters and adds to
+    // seconds_keys and working_bytes.
+    void edges(const Camera& camera, ExteriorEdges& out, SortStats& stats) const;
+
+    std::size_t triangle_count() const { return triangles_.size(); }
+    std::size_t memory_bytes() const { return triangles_.capacity() * sizeof(Triangle); }
+
+private:
+    struct Triangle {
+        std::uint32_t v[3]; // outward winding (counter-clockwise seen from outside the cell)
+        std::uint32_t cell;
+    };
+    const CellMesh& mesh_;
+    std::vector<Triangle> triangles_;
+};
+
+} // namespace fx::sort_detail
