@@ -18,6 +18,9 @@ int run_bench(const std::vector<std::string>& args) {
                   "  sort       visibility sorts (centroid, mpvo, xmpvo, power) on ~1M tetrahedra\n"
                   "             options: --cells N (1000000), --views N (8), --repeat N (5),\n"
                   "                      --mesh all|grid|jittered|c-shape (all)\n"
+                  "  terrain    continuous LOD along a flight (1025², 2049²), pixels changed vs full resolution,\n"
+                  "             fog valley fps per path; options: --sizes 1025,2049, --lod-frames N (300),\n"
+                  "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps\n"
                   "  absorption absorption / absorption-exact paths for every sort: blunt fin, ~1M tetrahedra, SPX\n"
                   "             options: --size WxH (256x256), --frames N (5), --cells N (1000000), --sort A,B,\n"
                   "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE");
@@ -27,8 +30,9 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "scanline") return bench_scanline(rest);
     if (args[0] == "pcp") return bench_pcp(rest);
     if (args[0] == "sort") return bench_sort(rest);
+    if (args[0] == "terrain") return bench_terrain(rest);
     if (args[0] == "absorption") return bench_absorption(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort or absorption)");
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain or absorption)");
 }
 
 } // namespace cellfx_cli
