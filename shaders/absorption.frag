@@ -4,12 +4,17 @@
 // piece on the CPU), read with bilinear interpolation done here in full float (texelFetch):
 // near α = 0 the table is bilinear in u·v, so thin cells keep their relative accuracy, which
 // fixed-point texture filtering would lose. Output premultiplied, composited back to front
-// with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA) ("over", Eq. 1).
+// with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA) ("over", Eq. 1). With a scene depth
+// (project.glsl) only the part of the ray in front of the scene's surface counts: the
+// thickness coordinate u is scaled by it (the polygon colour is kept, an approximation).
+#include "project.glsl"
+
 layout(binding = 1) uniform sampler2D u_opacity; // R32F, size × size, u along x
-layout(location = 0) uniform int u_opacity_size;
+layout(location = 9) uniform int u_opacity_size;
 
 layout(location = 0) noperspective in vec2 v_uv;
 layout(location = 1) noperspective in vec3 v_color;
+layout(location = 2) noperspective in vec2 v_depth; // view depths of the entry and the exit
 
 layout(location = 0) out vec4 o_color;
 
@@ -24,6 +29,12 @@ float opacity(vec2 uv) {
 }
 
 void main() {
-    float alpha = opacity(v_uv);
+    float keep = 1.0; // fraction of the segment in front of the scene
+    float z_scene = scene_view_depth(gl_FragCoord.xy);
+    if (z_scene < v_depth.y) {
+        float span = v_depth.y - v_depth.x;
+        keep = span > 0.0 ? clamp((z_scene - v_depth.x) / span, 0.0, 1.0) : 0.0;
+    }
+    float alpha = opacity(vec2(v_uv.x * keep, v_uv.y));
     o_color = vec4(v_color * alpha, alpha);
 }

@@ -5,7 +5,8 @@
 // The entry is the last front-facing plane the ray crosses (checked against its triangle, for
 // the two triangles of a quad and slightly curved cells), clamped to the near plane — so a camera inside the mesh composites only what lies ahead.
 // The scalar is face-linear at both ends (barycentric on the entry triangle, interpolated on
-// the exit one) and linear along the ray; colour and opacity of the segment come from the
+// the exit one) and linear along the ray, and it ends at the scene's surface where one is given
+// (CellRenderOptions::scene_depth); colour and opacity of the segment come from the
 // pre-integration table over (s_front, s_back, length) built by fx::build_preintegration_table
 // from the exact integrals, interpolated trilinearly here in full float. Output premultiplied,
 // into a float target with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA).
@@ -103,6 +104,14 @@ void main() {
         float f = span > 0.0 ? clamp((t_near - t_front) / span, 0.0, 1.0) : 1.0;
         s_in = mix(s_front, s_exit, f);
         t_in = min(t_near, t_exit);
+    }
+    // Scene depth: the segment ends at the opaque surface.
+    float t_scene = scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy));
+    if (t_scene < t_exit) {
+        float span = t_exit - t_in;
+        float f = span > 0.0 ? clamp((t_scene - t_in) / span, 0.0, 1.0) : 0.0;
+        s_exit = mix(s_in, s_exit, f);
+        t_exit = max(t_scene, t_in);
     }
     o_color = preintegrated(s_in, s_exit, max(t_exit - t_in, 0.0));
 }

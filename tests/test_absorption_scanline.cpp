@@ -39,8 +39,10 @@
 #include "fx/tetrahedralize.hpp"
 #include "fx/view_dependent_subdivision.hpp"
 #include "fx/visibility_sort.hpp"
+#include "gl/render_target.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
+#include "scanline_test_support.hpp"
 
 namespace {
 
@@ -362,4 +364,74 @@ TEST_CASE("absorption paths reject an inverted cell with a clear error", "[gl][a
     fx::CellRenderer fixed(mesh, "", glow(1.0));
     CHECK_NOTHROW(fixed.render_to_image(cam, 16, 16, fx::RenderPath::Absorption));
     fx_test::require_no_gl_error();
+}
+
+TEST_CASE("absorption paths stop at the scene's depth buffer", "[gl][absorption][scene_depth]") {
+    // A box of constant fog in front of a depth image: the left third a surface through the
+    // middle of the box, the top right one in front of it, the rest empty (window depth 1).
+    // Closed form: α = 1 − exp(−σ·l), colour c·α, with l the ray's length inside the box and in
+    // front of the surface.
+    fx_test::gl_context();
+    constexpr int kSize = 64;
+    const double sigma = 2.0;
+    const glm::dvec3 color(0.9, 0.8, 0.6);
+    fx::CellMesh box = fx_test::hex_box(3, 3, 3);
+    box.scalars.push_back({"s", std::vector<float>(box.point_count(), 0.0f)});
+    const fx::Camera cam = perspective({0.5, -1.6, 1.9}, {0.5, 0.5, 0.45}, {0, 0, 1}, 0.1);
+    const double box_mid = glm::dot(glm::dvec3(0.5) - cam.eye, cam.forward());
+    auto scene_depth = [&](int x, int y) {
+        if (x < kSize / 3) return box_mid;
+        if (y > kSize / 2) return 0.6 * box_mid - 0.12;
+        return cam.far_distance;
+    };
+    fx::gl::RenderTarget scene = fx::gl::RenderTarget::create(kSize, kSize, fx::gl::ColorFormat::RGBA8, true);
+    std::vector<float> depth(kSize * kSize);
+    const double n = cam.near_distance, f = cam.far_distance;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const double z = scene_depth(x, y);
+            depth[std::size_t(y) * kSize + x] = float(f * (z - n) / (z * (f - n))); // GL window depth
+        }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(scene.depth_texture(), 0, 0, 0, kSize, kSize, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    const fx::Image want = scanline_test::expected_image(kSize, kSize, [&](int x, int y) {
+        const fx::Ray ray = cam.pixel_ray(x + 0.5, y + 0.5, kSize, kSize);
+        auto [t0, t1] = scanline_test::ray_box(ray, glm::dvec3(0.0), glm::dvec3(1.0));
+        t0 = std::max(t0, scanline_test::near_t(cam, ray));
+        const double len = std::max(0.0, std::min(t1, scene_depth(x, y) / glm::dot(ray.direction, cam.forward())) - t0);
+        const double a = -std::expm1(-sigma * len);
+        return glm::vec4(glm::vec3(color * a), float(a));
+    });
+    fx::CellRenderer renderer(box, "s", fx::TransferFunction::constant(color, sigma));
+    fx::CellRenderOptions options;
+    options.scene_depth = scene.depth_texture();
+    // Exact: closed-form segments in float (1e-4). Classic: the entry and exit depths are
+    // interpolated linearly on screen over each polygon (§II's approximation for thickness),
+    // which moves the cut by up to ~2% of α for cells a third of the box wide; 1% holds away
+    // from the surfaces' edges. Both: pixel centres on the outlines (≤ 3% of pixels).
+    for (fx::RenderPath path : kPaths) {
+        const float tol = path == fx::RenderPath::AbsorptionExact ? 1e-4f : 0.01f;
+        const fx::Image actual = renderer.render_to_image(cam, kSize, kSize, path, options);
+        fx_test::require_no_gl_error();
+        std::size_t bad = 0, hidden = 0, lit = 0;
+        float worst = 0.0f;
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) {
+                const glm::vec4 a = actual.at(x, y), e = want.at(x, y);
+                const float d = glm::length(a - e);
+                worst = std::max(worst, d);
+                bad += !(d <= tol);
+                lit += e.a > 0.05f;
+                hidden += x >= kSize / 3 && y > kSize / 2 + 2 && a.a == 0.0f;
+            }
+        const double bad_fraction = double(bad) / (kSize * kSize);
+        WARN(fx::render_path_name(path) << " with scene depth: worst " << worst << ", beyond " << tol << ": "
+                                        << 100.0 * bad_fraction << "% of pixels");
+        CHECK(lit > kSize * kSize / 8);
+        CHECK(hidden > 200); // the surface in front hides the box there
+        if (bad_fraction > 0.03)
+            fx_test::write_failure_images(std::string("scene_depth_") + fx::render_path_name(path), actual, want);
+        CHECK(bad_fraction <= 0.03);
+    }
 }

@@ -28,7 +28,8 @@
 //      below K, and neither is squeezed into a corner of the table.
 // The GPU interpolates u, v and the colour linearly on screen over each polygon, reads
 // α = 1 − exp(−K·u·v) from the table (bilinear, in full float) and composites (C/α·α, α)
-// with "over", back to front.
+// with "over", back to front. With a scene depth, the entry and exit view depths (also
+// linear on screen) give the part of the ray in front of the scene, which scales u.
 //
 // Ownership: the builder keeps references to the geometry and the transfer function, which
 // must outlive it and not change; it holds scratch buffers (use one builder per thread).
@@ -66,6 +67,8 @@ double lookup_opacity(const OpacityTable& table, double u, double v);
 struct ClassicVertex {
     glm::vec4 position_uv; // NDC x, y; opacity-table coordinates u, v
     glm::vec4 color;       // polygon colour C/α (rgb), a = 0
+    glm::vec2 depth;       // view depths of the ray's entry and exit (a scene's surface cuts there)
+    glm::vec2 unused{0.0f};
 };
 
 struct ClassicGeometry {

@@ -85,7 +85,9 @@ struct CellRenderOptions {
     // the viewport. pcp-exact ends each ray's segment at the scene depth (exact: the scalar is
     // interpolated to the cut); pcp clamps every face's depth d to it, so the α difference is the
     // length in front of the scene (colour stays the per-cell trapezoid estimate); mip drops the
-    // fragments behind it (a cell cut by a surface shows its entry face's maximum). The texture
+    // fragments behind it (a cell cut by a surface shows its entry face's maximum).
+    // absorption-exact ends each segment at the scene depth like pcp-exact; absorption scales
+    // each pixel's thickness by the part of its segment in front (the colour is kept). The texture
     // must not be attached to the framebuffer render() draws into; it is read on texture unit 3.
     unsigned int scene_depth = 0;
     // Absorption paths: the visibility sort (its per-mesh state is built on first use of each

@@ -78,6 +78,8 @@ struct SubdivisionVertex {
     double thickness = 0.0; // l, world units; 0 at profile vertices
     double s_front = 0.0;   // scalar where the ray through this point enters the cell
     double s_back = 0.0;    // ... and where it leaves
+    double depth_front = 0.0; // view depth (eye-space −z) of the entry point
+    double depth_back = 0.0;  // ... and of the exit point
 };
 
 // Convex polygons counter-clockwise on screen; polygon k uses polygon_vertices

@@ -297,6 +297,7 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
         ClassicVertex& cv = out.vertices[base + i];
         cv.position_uv = glm::vec4(float(sv.ndc.x), float(sv.ndc.y), 0.0f, 0.0f);
         cv.color = glm::vec4(glm::vec3(color), 0.0f);
+        cv.depth = glm::vec2(float(sv.depth_front), float(sv.depth_back));
         tau_.push_back(tau_mean);
     }
     // Joint scaling of thickness and extinction for this piece (only u·v = l·τ_a/K matters).

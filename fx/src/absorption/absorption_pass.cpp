@@ -35,7 +35,10 @@ enum Uniform : GLint {
     kSlotVertices = 6,
     kPreintegration = 7,
     kPreintegrationSize = 8,
-    kOpacitySize = 0, // absorption.frag
+    kOpacitySize = 9, // absorption.frag
+    kSceneDepthMode = 20, // project.glsl, as the renderer sets them for its own programs
+    kSceneDepthRange = 21,
+    kSceneOrigin = 22,
 };
 constexpr GLuint kFrameBinding = 3;    // storage buffer: items (exact) or vertices (classic)
 constexpr GLuint kOpacityUnit = 1;     // 2-D opacity table
@@ -222,7 +225,15 @@ void AbsorptionPass::ensure_preintegration_table() {
     preintegration_ready_ = true;
 }
 
-void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, CellRenderStats& stats) {
+void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
+                          CellRenderStats& stats) {
+    // Scene depth: the renderer binds the texture (unit 3); the mode and ranges are per program.
+    const GLint depth_mode = options.scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
+    for (const gl::Program* p : {&classic_, &exact_}) {
+        glProgramUniform1i(p->id(), kSceneDepthMode, depth_mode);
+        glProgramUniform2f(p->id(), kSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
+        glProgramUniform2i(p->id(), kSceneOrigin, viewport.x, viewport.y);
+    }
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front

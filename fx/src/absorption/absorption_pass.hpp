@@ -51,8 +51,10 @@ public:
     // CPU work of the frame; fills the sort/subdivision/projection fields of `stats`.
     void prepare(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                  CellRenderStats& stats);
-    // GL work of the frame prepared last, into the bound target (cleared to 0).
-    void draw(const Camera& camera, const Viewport& viewport, bool exact, CellRenderStats& stats);
+    // GL work of the frame prepared last, into the bound target (cleared to 0). With
+    // options.scene_depth the renderer has bound the scene's depth texture to unit 3.
+    void draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
+              CellRenderStats& stats);
 
     // Pass-through resolve (premultiplied colour and alpha), same uniforms as pcp_resolve.frag.
     const gl::Program& resolve() const { return resolve_; }

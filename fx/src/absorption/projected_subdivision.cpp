@@ -90,6 +90,7 @@ std::uint32_t SubdivisionBuilder::add_vertex(const glm::dvec2& p, std::uint32_t 
     locate(p, f[0], f[1], f[2], ef, v.s_front);
     locate(p, b[0], b[1], b[2], eb, v.s_back);
     v.thickness = glm::length(eb - ef); // the view transform is rigid: eye lengths are world lengths
+    v.depth_front = -ef.z, v.depth_back = -eb.z;
     out.vertices.push_back(v);
     return static_cast<std::uint32_t>(out.vertices.size() - 1);
 }
@@ -98,6 +99,7 @@ std::uint32_t SubdivisionBuilder::add_profile_vertex(std::uint32_t i, ProjectedS
     SubdivisionVertex v;
     v.ndc = points_[i].ndc;
     v.s_front = v.s_back = points_[i].s;
+    v.depth_front = v.depth_back = -points_[i].eye.z;
     out.vertices.push_back(v);
     return static_cast<std::uint32_t>(out.vertices.size() - 1);
 }
@@ -139,6 +141,7 @@ void SubdivisionBuilder::tetrahedron(const ProjectionFrame& frame, const std::ar
         const bool vertex_in_front = points_[i].eye.z > eye.z; // eye looks down −z
         v.s_front = vertex_in_front ? points_[i].s : s;
         v.s_back = vertex_in_front ? s : points_[i].s;
+        v.depth_front = -std::max(points_[i].eye.z, eye.z), v.depth_back = -std::min(points_[i].eye.z, eye.z);
         const std::uint32_t base = static_cast<std::uint32_t>(out.vertices.size());
         out.vertices.push_back(v);
         const std::uint32_t a = add_profile_vertex(j, out), b = add_profile_vertex(k, out),
@@ -179,6 +182,7 @@ void SubdivisionBuilder::tetrahedron(const ProjectionFrame& frame, const std::ar
     v.thickness = glm::length(e1 - e2);
     v.s_front = e1.z > e2.z ? s1 : s2;
     v.s_back = e1.z > e2.z ? s2 : s1;
+    v.depth_front = -std::max(e1.z, e2.z), v.depth_back = -std::min(e1.z, e2.z);
     const std::uint32_t base = static_cast<std::uint32_t>(out.vertices.size());
     out.vertices.push_back(v);
     std::array<std::uint32_t, 4> ids;

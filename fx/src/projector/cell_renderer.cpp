@@ -142,6 +142,7 @@ CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name,
 }
 
 void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
+    impl_->absorption.reset(); // its subdivision, sorts and tables belong to the old mesh
     impl_->upload_mesh(mesh, scalar_name);
     set_transfer_function(impl_->source_tf);
 }
@@ -462,7 +463,7 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     case RenderPath::Pcp: m.draw_classic(camera, viewport, options, stats); break;
     case RenderPath::Absorption:
     case RenderPath::AbsorptionExact:
-        m.absorption_pass().draw(camera, viewport, path == RenderPath::AbsorptionExact, stats);
+        m.absorption_pass().draw(camera, viewport, path == RenderPath::AbsorptionExact, options, stats);
         break;
     }
 
