@@ -91,8 +91,10 @@ struct CellRenderOptions {
     // must not be attached to the framebuffer render() draws into; it is read on texture unit 3.
     unsigned int scene_depth = 0;
     // Absorption paths: the visibility sort (its per-mesh state is built on first use of each
-    // method, and again when the view-dependent subdivision changes the cells).
-    SortMethod sort = SortMethod::Centroid;
+    // method, and again when the view-dependent subdivision changes the cells). The default,
+    // xmpvo, is exact on convex and non-convex meshes of convex cells; centroid is faster and
+    // approximate (docs/visibility_sort.md).
+    SortMethod sort = SortMethod::Xmpvo;
     // Classic absorption: cut cells at the transfer function's breakpoints (§V) so that colour
     // and extinction are linear inside every piece; off shows §II's projection alone.
     bool slice_breakpoints = true;
