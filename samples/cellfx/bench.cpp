@@ -23,7 +23,10 @@ int run_bench(const std::vector<std::string>& args) {
                   "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps\n"
                   "  absorption absorption / absorption-exact paths for every sort: blunt fin, ~1M tetrahedra, SPX\n"
                   "             options: --size WxH (256x256), --frames N (5), --cells N (1000000), --sort A,B,\n"
-                  "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE");
+                  "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE\n"
+                  "  accuracy   every path and flavour against the 4x4 scan-line reference: ms per frame, RMSE, max, PSNR;\n"
+                  "             writes CSV, Markdown and a plot; options: --out DIR (out/accuracy), --frames N (5),\n"
+                  "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside, --fem-cells N (1000000), --blunt-fin DIR");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
@@ -32,7 +35,8 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "sort") return bench_sort(rest);
     if (args[0] == "terrain") return bench_terrain(rest);
     if (args[0] == "absorption") return bench_absorption(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain or absorption)");
+    if (args[0] == "accuracy") return bench_accuracy(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain, absorption or accuracy)");
 }
 
 } // namespace cellfx_cli

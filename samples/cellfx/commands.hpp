@@ -24,6 +24,9 @@ int bench_terrain(const std::vector<std::string>& args);
 // `cellfx bench absorption`: the absorption paths for every sort (Max, Williams & Silva 2000).
 int bench_absorption(const std::vector<std::string>& args);
 
+// `cellfx bench accuracy`: every path and flavour, ms per frame against error (CSV, Markdown, plot).
+int bench_accuracy(const std::vector<std::string>& args);
+
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);
 
