@@ -151,9 +151,11 @@ TEST_CASE("statistics: memory by component, triangle counts, stage times", "[sca
     CHECK(s.triangles_active > 0);
     CHECK(s.triangles_active <= s.triangles_total);
     CHECK(s.memory.mesh == mesh.memory_bytes());
-    CHECK(s.memory.transformed_points >= mesh.point_count() * 3 * sizeof(double));
+    CHECK(s.memory.transformed_points >= mesh.point_count() * 4 * sizeof(float)); // x, y, z, scalar
     CHECK(s.memory.triangles >= r.triangle_count() * 3 * sizeof(std::uint32_t));
-    CHECK(s.memory.bucket_clip_info == r.triangle_count() * sizeof(std::uint16_t));
+    // Per triangle its Y-bucket (16 bits) and its span class (4 bits).
+    CHECK(s.memory.bucket_clip_info ==
+          r.triangle_count() * sizeof(std::uint16_t) + (r.triangle_count() + 15) / 16 * sizeof(std::uint64_t));
     CHECK(s.memory.y_buckets >= s.triangles_active * sizeof(std::uint32_t));
     CHECK(s.memory.frame_buffer == 80 * 60 * sizeof(glm::vec4));
     CHECK(s.memory.active_lists > 0);

@@ -65,6 +65,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -74,6 +76,10 @@
 #include "fx/transfer_function.hpp"
 
 namespace fx {
+
+namespace scanline {
+struct FrameBuffers;
+}
 
 enum class OpticalModel {
     Emission,           // ∫ c·σ ds, additive
@@ -125,6 +131,9 @@ public:
     // Builds the triangles (face topology is computed here and discarded). Throws fx::Error
     // for non-finite points or indices out of range.
     explicit ScanlineRenderer(const CellMesh& mesh);
+    ~ScanlineRenderer();
+    ScanlineRenderer(const ScanlineRenderer&) = delete;
+    ScanlineRenderer& operator=(const ScanlineRenderer&) = delete;
 
     // Renders one frame. `field` has one value per mesh point (finite); a normalized transfer
     // function is first mapped onto the field's range. width, height in [1, 65534].
@@ -149,6 +158,9 @@ private:
     std::vector<std::uint32_t> triangles_; // 3 point indices per triangle
     std::vector<TriangleRange> ranges_;    // one per block
     std::size_t surface_triangles_ = 0;
+    // Per-frame buffers kept for the next render() (none while a render() holds them).
+    mutable std::mutex spare_mutex_;
+    mutable std::unique_ptr<scanline::FrameBuffers> spare_;
 };
 
 } // namespace fx

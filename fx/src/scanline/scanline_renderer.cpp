@@ -19,6 +19,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -31,13 +33,110 @@
 #include "scanline/scanline_frame.hpp"
 
 namespace fx {
+namespace scanline {
+
+// A vertex as the scan converter uses it: q is the scalar times w (perspective-correct).
+struct SVertex {
+    double x, y, z, q;
+};
+
+// A triangle with its vertices sorted bottom to top, ready to be cut by scan lines.
+struct ScanTriangle {
+    ScreenPoint v[3];
+    std::uint32_t id;
+    std::uint32_t grid : 31;
+    std::uint32_t toggles : 1;
+};
+
+// Table 1 of the paper: a triangle active over several scan lines, with its last line.
+// Triangles that cover one scan line never enter this list; they are cut straight from
+// their Y-bucket.
+struct ActiveTriangle {
+    ScanTriangle tri;
+    std::int32_t last_row;
+};
+
+// One crossing of a triangle with a pixel ray: Table 2's depth and data value (q, the scalar
+// times w), with what the pixel walk needs to know about the triangle.
+struct Fragment {
+    double z, q;
+    std::uint32_t id;
+    std::uint32_t grid : 31;
+    std::uint32_t toggles : 1;
+};
+
+// A fragment before the per-pixel counting sort.
+struct PixelFragment {
+    Fragment f;
+    std::int32_t x; // pixel column
+};
+
+inline bool depth_order(const Fragment& a, const Fragment& b) { return a.z < b.z || (a.z == b.z && a.id < b.id); }
+
+struct Crossing {
+    double z, s;
+    std::uint32_t grid;
+    bool toggles;
+};
+
+// Bytes held by a vector (capacity, not size).
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+    return v.capacity() * sizeof(T);
+}
+
+// Per-thread buffers, kept between frames.
+struct WorkerBuffers {
+    std::vector<ActiveTriangle> active;
+    std::vector<PixelFragment> fragments;
+    std::vector<Fragment> sorted; // fragments by pixel, each pixel's X-bucket in depth order
+    std::vector<std::uint32_t> xcount; // X-bucket starts per pixel (counting sort)
+    std::vector<Crossing> cross;
+    std::vector<int> next_same;
+    std::vector<std::uint8_t> inside;
+    std::vector<int> last, seen;
+    std::vector<std::uint32_t> inside_list;
+
+    std::size_t active_bytes() const {
+        return active.capacity() * sizeof(ActiveTriangle) + cross.capacity() * sizeof(Crossing) +
+               next_same.capacity() * sizeof(int) + inside.capacity() + (last.capacity() + seen.capacity()) * sizeof(int) +
+               inside_list.capacity() * sizeof(std::uint32_t);
+    }
+    std::size_t x_bytes() const {
+        return bytes(fragments) + bytes(sorted) +
+               xcount.capacity() * sizeof(std::uint32_t);
+    }
+};
+
+// The per-frame buffers, kept by the renderer between frames so that a frame neither
+// allocates nor clears its large arrays again (ScanlineRenderer::spare_).
+struct FrameBuffers {
+    std::vector<ScreenPoint> points;
+    std::vector<std::uint16_t> clip_info;  // bucket_clip_info: Y-bucket of each mesh triangle,
+    std::vector<std::uint64_t> span_class; // ... and its span class, 4 bits (16 per word)
+    std::vector<std::uint32_t> counts, offsets, bucket_start, class_begin, y_buckets;
+    std::vector<WorkerBuffers> workers;
+};
+
+} // namespace scanline
+
 namespace {
 
+using scanline::depth_order;
 using scanline::DepthMap;
 using scanline::ExtraTriangle;
 using scanline::FrameGeometry;
 using scanline::ScreenPoint;
+using scanline::ActiveTriangle;
+using scanline::Crossing;
+using scanline::Fragment;
+using scanline::PixelFragment;
+using scanline::FrameBuffers;
+using scanline::ScanTriangle;
+using scanline::SVertex;
 using scanline::Vertex;
+using scanline::WorkerBuffers;
+using scanline::bytes;
 
 constexpr std::uint16_t kDropped = 0xFFFF;
 
@@ -78,68 +177,41 @@ struct Rect {
     int row_lo, row_hi, col_lo, col_hi;
 };
 
-// The Y-bucket of a triangle, or -1 when it is dropped: off screen, outside `r`, or covering
-// no scan line or no pixel column at pixel centres.
-int bucket_of(const double x[3], const double y[3], const Rect& r) {
+// The scan lines a triangle covers at pixel centres: its Y-bucket `first` and its last line.
+// first == -1 when it is dropped: off screen, outside `r`, or covering no scan line or no
+// pixel column.
+struct Rows {
+    int first, last;
+};
+Rows rows_of(const double x[3], const double y[3], const Rect& r) {
     const double ylo = std::min({y[0], y[1], y[2]}), yhi = std::max({y[0], y[1], y[2]});
     const int r0 = std::max(first_center_at_or_after(ylo), r.row_lo);
     const int r1 = std::min(last_center_before(yhi), r.row_hi);
-    if (r0 > r1) return -1;
+    if (r0 > r1) return {-1, -1};
     const double xlo = std::min({x[0], x[1], x[2]}), xhi = std::max({x[0], x[1], x[2]});
     const int c0 = std::max(first_center_at_or_after(xlo), r.col_lo);
     const int c1 = std::min(last_center_before(xhi), r.col_hi);
-    if (c0 > c1) return -1;
-    return r0;
+    if (c0 > c1) return {-1, -1};
+    return {r0, r1};
 }
 
-// A vertex as the scan converter uses it: q is the scalar times w (perspective-correct).
-struct SVertex {
-    double x, y, z, q;
-};
-
-// Table 1 of the paper: an active triangle by reference, vertices sorted bottom to top
-// (ids below point_count are mesh points, the others extra vertices + point_count).
-struct ActiveTriangle {
-    std::uint32_t v[3];
-    std::int32_t last_row;
-    std::uint32_t id;
-    std::uint32_t grid : 31;
-    std::uint32_t toggles : 1;
-};
-
-// Table 2 of the paper: a triangle's span on the current scan line.
-struct XEntry {
-    double xl, xr, zl, zr, ql, qr;
-    double inv_width; // 1/(xr − xl)
-    int first, last; // pixel columns
-    std::uint32_t id;
-    std::uint32_t grid;
-    bool toggles;
-};
-
-// A triangle in the active X list of a pixel, with its depth and q at that pixel.
-struct Live {
-    double z, q;
-    std::uint32_t id;
-    std::uint32_t entry;
-};
-
-struct Crossing {
-    double z, s;
-    std::uint32_t grid;
-    bool toggles;
-};
+// Y-bucket parts: span class c holds triangles covering exactly c scan lines (1 ≤ c < 15),
+// class 15 those covering 15 or more.
+constexpr int kSpanClasses = 16;
+int span_class(const Rows& r) { return std::min(r.last - r.first + 1, kSpanClasses - 1); }
 
 // Everything one frame needs, shared read-only by the workers.
 struct FrameContext {
     const FrameGeometry* geo;
-    const std::vector<std::uint32_t>* triangles;
-    std::vector<std::uint32_t> range_begin; // per block: first triangle, surface end, end
-    std::vector<std::uint32_t> range_surface_end;
-    std::vector<std::uint32_t> range_grid;
+    const std::uint32_t* triangles;  // 3 point ids per mesh triangle
+    const std::vector<ScanlineRenderer::TriangleRange>* ranges;
     std::size_t base_triangles;
-    const std::vector<std::uint32_t>* y_buckets;
-    const std::vector<std::uint32_t>* bucket_start; // height + 1 entries
+    const std::uint32_t* y_buckets;
+    // Bucket b is y_buckets[bucket_start[b] .. bucket_start[b + 1]), its span classes from 15
+    // down to 1; class c starts at class_begin[16 b + c] and ends where class c − 1 starts
+    // (class_begin[16 b] is the end of the bucket).
+    const std::uint32_t* bucket_start; // height + 1 entries
+    const std::uint32_t* class_begin;  // 16 · height entries
     Rect rect;
     int width, height;
     std::uint32_t grid_count; // blocks + 1 (the clip box)
@@ -150,257 +222,284 @@ struct FrameContext {
     Image* image;
 };
 
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(p);
+#else
+    (void)p;
+#endif
+}
+
 class Worker {
 public:
-    explicit Worker(const FrameContext& ctx) : ctx_(ctx) {
-        xcount_.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
-        inside_.assign(ctx.grid_count, 0);
-        last_.assign(ctx.grid_count, -1);
-        seen_.assign(ctx.grid_count, -1);
+    Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers) {
+        b_.active.clear();
+        b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
+        b_.inside.assign(ctx.grid_count, 0);
+        b_.last.assign(ctx.grid_count, -1);
+        b_.seen.assign(ctx.grid_count, -1);
+        cursor_ = 0;
     }
 
     void process_line(int y);
 
     std::size_t crossings = 0;
     std::size_t lost = 0;
-    std::size_t peak_active_bytes = 0;
-    std::size_t peak_x_bytes = 0;
 
 private:
-    void load_triangle(std::uint32_t id, int current_row);
-    SVertex vertex(std::uint32_t v) const;
+    // Fetches triangle `id` with its vertices sorted bottom to top. Ids ascend along a
+    // bucket's span class, so the block is found by moving a cursor.
+    void fetch(std::uint32_t id, ScanTriangle& t);
+    // Appends the triangles of y_buckets[begin, end) still active on line y.
+    void load_active(std::uint32_t begin, std::uint32_t end, int y);
+    // Prefetches what fetch() will read for the bucket entries ahead of `i` in [i, end).
+    void prefetch_ahead(const std::uint32_t* ids, std::uint32_t i, std::uint32_t end) const;
+    SVertex vertex(const ScreenPoint& p) const; // with q = s·w
     void update_active(int y);
-    void shade_pixel(int x, int y, std::size_t n);
+    // Cuts t with scan line yc: appends one fragment per covered pixel.
+    void add_fragments(const ScanTriangle& t, double yc);
+    // Walks pixel (x, y)'s crossings in depth order (§2.4 Figure 6).
+    void shade_pixel(int x, int y, const Fragment* frags, std::size_t n);
 
     const FrameContext& ctx_;
+    WorkerBuffers& b_;
     int current_line_ = -1;
-    std::vector<ActiveTriangle> active_;
-    std::vector<XEntry> entries_;
-    std::vector<std::uint32_t> xcount_; // X-bucket starts per pixel (counting sort)
-    std::vector<std::uint32_t> xorder_;
-    std::vector<Live> live_;
-    std::vector<Crossing> cross_;
-    std::vector<int> next_same_;
-    std::vector<std::uint8_t> inside_;
-    std::vector<int> last_, seen_;
-    std::vector<std::uint32_t> inside_list_;
+    std::size_t cursor_ = 0; // block of the last fetched mesh triangle
 };
 
-SVertex Worker::vertex(std::uint32_t v) const {
-    const FrameGeometry& geo = *ctx_.geo;
-    const std::size_t n = geo.points.size();
-    if (v < n) {
-        const ScreenPoint& p = geo.points[v];
-        return SVertex{p.x, p.y, p.z, static_cast<double>(geo.scalars[v]) * geo.depth.w(p.z)};
-    }
-    const Vertex& p = geo.extra_vertices[v - n];
-    return SVertex{p.x, p.y, p.z, p.s * geo.depth.w(p.z)};
+SVertex Worker::vertex(const ScreenPoint& p) const {
+    const double z = p.z;
+    return SVertex{p.x, p.y, z, static_cast<double>(p.s) * ctx_.geo->depth.w(z)};
 }
 
-void Worker::load_triangle(std::uint32_t id, int current_row) {
+void Worker::prefetch_ahead(const std::uint32_t* ids, std::uint32_t i, std::uint32_t end) const {
+    // Two stages: the triangle's point ids far ahead, its points nearer (their ids are in
+    // cache by then). Most triangles are used once per frame, so the loads would otherwise
+    // wait on memory one after another.
+    constexpr std::uint32_t kFar = 16, kNear = 8;
+    const std::size_t base = ctx_.base_triangles;
+    if (i + kFar < end && ids[i + kFar] < base) prefetch(ctx_.triangles + 3 * static_cast<std::size_t>(ids[i + kFar]));
+    if (i + kNear < end && ids[i + kNear] < base) {
+        const std::uint32_t* tri = ctx_.triangles + 3 * static_cast<std::size_t>(ids[i + kNear]);
+        const ScreenPoint* pts = ctx_.geo->points.data();
+        prefetch(pts + tri[0]);
+        prefetch(pts + tri[1]);
+        prefetch(pts + tri[2]);
+    }
+}
+
+void Worker::fetch(std::uint32_t id, ScanTriangle& t) {
     const FrameGeometry& geo = *ctx_.geo;
-    const auto n = static_cast<std::uint32_t>(geo.points.size());
-    ActiveTriangle t;
     t.id = id;
-    double y[3];
     if (id < ctx_.base_triangles) {
-        const std::uint32_t* tri = ctx_.triangles->data() + 3 * static_cast<std::size_t>(id);
-        for (int i = 0; i < 3; ++i) t.v[i] = tri[i], y[i] = geo.points[tri[i]].y;
-        const std::size_t r = static_cast<std::size_t>(
-            std::upper_bound(ctx_.range_begin.begin(), ctx_.range_begin.end(), id) - ctx_.range_begin.begin() - 1);
-        t.grid = ctx_.range_grid[r];
-        t.toggles = id < ctx_.range_surface_end[r];
+        const std::uint32_t* tri = ctx_.triangles + 3 * static_cast<std::size_t>(id);
+        for (int i = 0; i < 3; ++i) t.v[i] = geo.points[tri[i]];
+        const std::vector<ScanlineRenderer::TriangleRange>& ranges = *ctx_.ranges;
+        if (id < ranges[cursor_].begin) cursor_ = 0;
+        while (id >= ranges[cursor_].end) ++cursor_;
+        t.grid = static_cast<std::uint32_t>(cursor_);
+        t.toggles = id < ranges[cursor_].surface_end;
     } else {
         const ExtraTriangle& e = geo.extra_triangles[id - ctx_.base_triangles];
-        for (int i = 0; i < 3; ++i) t.v[i] = n + e.v[i], y[i] = geo.extra_vertices[e.v[i]].y;
+        for (int i = 0; i < 3; ++i) t.v[i] = geo.extra_vertices[e.v[i]];
         t.grid = e.grid;
         t.toggles = e.toggles;
     }
     // Sort the three vertices bottom to top.
-    if (y[1] < y[0]) std::swap(y[0], y[1]), std::swap(t.v[0], t.v[1]);
-    if (y[2] < y[1]) std::swap(y[1], y[2]), std::swap(t.v[1], t.v[2]);
-    if (y[1] < y[0]) std::swap(y[0], y[1]), std::swap(t.v[0], t.v[1]);
-    t.last_row = std::min(last_center_before(y[2]), ctx_.rect.row_hi);
-    if (t.last_row < current_row) return;
-    active_.push_back(t);
+    if (t.v[1].y < t.v[0].y) std::swap(t.v[0], t.v[1]);
+    if (t.v[2].y < t.v[1].y) std::swap(t.v[1], t.v[2]);
+    if (t.v[1].y < t.v[0].y) std::swap(t.v[0], t.v[1]);
+}
+
+void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
+    const std::uint32_t* ids = ctx_.y_buckets;
+    cursor_ = 0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+        prefetch_ahead(ids, i, end);
+        ActiveTriangle a;
+        fetch(ids[i], a.tri);
+        a.last_row = std::min(last_center_before(a.tri.v[2].y), ctx_.rect.row_hi);
+        if (a.last_row >= y) b_.active.push_back(a);
+    }
 }
 
 void Worker::update_active(int y) {
-    const std::vector<std::uint32_t>& start = *ctx_.bucket_start;
-    const std::vector<std::uint32_t>& ids = *ctx_.y_buckets;
-    // Lines skipped since this worker's last one (taken by other workers): their buckets are
-    // read too, keeping only triangles still active on line y.
+    // Buckets of lines skipped since this worker's last line (taken by other workers) and of
+    // line y itself. A triangle of bucket b covers lines b .. b + span − 1, so only the span
+    // classes ≥ y − b + 1 (a prefix of the bucket) are still active on line y: exactly those
+    // are read, class 15 (15 lines or more) with a check. Bucket y's one-line class is cut
+    // directly by process_line().
     for (int b = current_line_ + 1; b <= y; ++b) {
-        for (std::uint32_t i = start[b]; i < start[b + 1]; ++i) load_triangle(ids[i], y);
+        const int need = std::max(y - b + 1, 2);
+        const std::size_t cls = static_cast<std::size_t>(std::min(need, kSpanClasses - 1));
+        const std::uint32_t* begin = ctx_.class_begin + static_cast<std::size_t>(b) * kSpanClasses;
+        load_active(ctx_.bucket_start[b], begin[cls - 1], y);
     }
     current_line_ = y;
     // Remove finished triangles by moving the last one into their place: the order of the
     // active list does not matter, pixels order their crossings by (depth, id).
-    for (std::size_t i = 0; i < active_.size();) {
-        if (active_[i].last_row < y) {
-            active_[i] = active_.back();
-            active_.pop_back();
+    std::vector<ActiveTriangle>& active = b_.active;
+    for (std::size_t i = 0; i < active.size();) {
+        if (active[i].last_row < y) {
+            active[i] = active.back();
+            active.pop_back();
         } else {
             ++i;
         }
     }
 }
 
-void Worker::process_line(int y) {
-    update_active(y);
-    const double yc = y + 0.5;
-    // X-buckets: each active triangle's span on this line, by first pixel.
-    entries_.clear();
-    int xmin = ctx_.width, xmax = -1;
-    for (const ActiveTriangle& t : active_) {
-        const SVertex v0 = vertex(t.v[0]);
-        const SVertex v1 = vertex(t.v[1]);
-        const SVertex v2 = vertex(t.v[2]);
-        // Figure 3: the long edge v0→v2 and the short edge below or above the middle vertex.
-        const double inv_a = 1.0 / (v2.y - v0.y);
-        const double xa = interpolate(v0.x, v2.x, v0.y, v2.y, inv_a, yc);
-        const SVertex& p = yc < v1.y ? v0 : v1;
-        const SVertex& q = yc < v1.y ? v1 : v2;
-        const double inv_b = 1.0 / (q.y - p.y);
-        const double xb = interpolate(p.x, q.x, p.y, q.y, inv_b, yc);
-        // Cheap reject before the depth and scalar edges: no pixel centre in [x_l, x_r).
-        if (first_center_at_or_after(std::min(xa, xb)) > last_center_before(std::max(xa, xb))) continue;
-        const double za = interpolate(v0.z, v2.z, v0.y, v2.y, inv_a, yc);
-        const double qa = interpolate(v0.q, v2.q, v0.y, v2.y, inv_a, yc);
-        const double zb = interpolate(p.z, q.z, p.y, q.y, inv_b, yc);
-        const double qb = interpolate(p.q, q.q, p.y, q.y, inv_b, yc);
-        XEntry e;
-        if (xa <= xb) {
-            e.xl = xa, e.zl = za, e.ql = qa, e.xr = xb, e.zr = zb, e.qr = qb;
-        } else {
-            e.xl = xb, e.zl = zb, e.ql = qb, e.xr = xa, e.zr = za, e.qr = qa;
-        }
-        e.first = std::max(first_center_at_or_after(e.xl), ctx_.rect.col_lo);
-        e.last = std::min(last_center_before(e.xr), ctx_.rect.col_hi);
-        if (e.first > e.last) continue;
-        e.inv_width = 1.0 / (e.xr - e.xl);
-        e.id = t.id;
-        e.grid = t.grid;
-        e.toggles = t.toggles;
-        xmin = std::min(xmin, e.first);
-        xmax = std::max(xmax, e.last);
-        entries_.push_back(e);
-    }
-    peak_active_bytes = std::max(peak_active_bytes, active_.capacity() * sizeof(ActiveTriangle) +
-                                                        live_.capacity() * sizeof(Live) +
-                                                        cross_.capacity() * sizeof(Crossing) +
-                                                        next_same_.capacity() * sizeof(int));
-    if (entries_.empty()) return;
-    // Counting sort of the entries by first pixel: xorder_[xcount_[x] .. xcount_[x+1]).
-    std::fill(xcount_.begin() + xmin, xcount_.begin() + xmax + 2, 0u);
-    for (const XEntry& e : entries_) ++xcount_[e.first + 1];
-    for (int x = xmin + 1; x <= xmax + 1; ++x) xcount_[x] += xcount_[x - 1];
-    xorder_.resize(entries_.size());
-    {
-        // xcount_[xmin] is 0 here; fill uses a running cursor per pixel.
-        std::vector<std::uint32_t>& cursor = xcount_;
-        for (std::uint32_t i = 0; i < entries_.size(); ++i) xorder_[cursor[entries_[i].first]++] = i;
-        // cursor[x] now holds the end of bucket x, i.e. the start of bucket x + 1.
-    }
-    peak_x_bytes = std::max(peak_x_bytes, entries_.capacity() * sizeof(XEntry) +
-                                              xorder_.capacity() * sizeof(std::uint32_t) +
-                                              xcount_.capacity() * sizeof(std::uint32_t));
-
-    // Sweep the pixels with the active X list in depth order (§2.2).
-    live_.clear();
-    std::uint32_t bucket_begin = 0;
-    for (int x = xmin; x <= xmax; ++x) {
-        const std::uint32_t bucket_end = xcount_[x];
+void Worker::add_fragments(const ScanTriangle& t, double yc) {
+    const SVertex v0 = vertex(t.v[0]);
+    const SVertex v1 = vertex(t.v[1]);
+    const SVertex v2 = vertex(t.v[2]);
+    // Figure 3: the long edge v0→v2 and the short edge below or above the middle vertex.
+    const double inv_a = 1.0 / (v2.y - v0.y);
+    const double xa = interpolate(v0.x, v2.x, v0.y, v2.y, inv_a, yc);
+    const SVertex& p = yc < v1.y ? v0 : v1;
+    const SVertex& q = yc < v1.y ? v1 : v2;
+    const double inv_b = 1.0 / (q.y - p.y);
+    const double xb = interpolate(p.x, q.x, p.y, q.y, inv_b, yc);
+    const double xl = std::min(xa, xb), xr = std::max(xa, xb);
+    const int first = std::max(first_center_at_or_after(xl), ctx_.rect.col_lo);
+    const int last = std::min(last_center_before(xr), ctx_.rect.col_hi);
+    if (first > last) return; // no pixel centre in [x_l, x_r)
+    const double za = interpolate(v0.z, v2.z, v0.y, v2.y, inv_a, yc);
+    const double qa = interpolate(v0.q, v2.q, v0.y, v2.y, inv_a, yc);
+    const double zb = interpolate(p.z, q.z, p.y, q.y, inv_b, yc);
+    const double qb = interpolate(p.q, q.q, p.y, q.y, inv_b, yc);
+    const bool a_left = xa <= xb;
+    const double zl = a_left ? za : zb, zr = a_left ? zb : za;
+    const double ql = a_left ? qa : qb, qr = a_left ? qb : qa;
+    const double inv_width = 1.0 / (xr - xl);
+    for (int x = first; x <= last; ++x) {
         const double xc = x + 0.5;
-        // Drop finished entries, update depth and q of the others at this pixel.
-        std::size_t keep = 0;
-        for (std::size_t i = 0; i < live_.size(); ++i) {
-            const XEntry& e = entries_[live_[i].entry];
-            if (e.last < x) continue;
-            Live l = live_[i];
-            l.z = interpolate(e.zl, e.zr, e.xl, e.xr, e.inv_width, xc);
-            l.q = interpolate(e.ql, e.qr, e.xl, e.xr, e.inv_width, xc);
-            live_[keep++] = l;
-        }
-        live_.resize(keep);
-        for (std::uint32_t k = bucket_begin; k < bucket_end; ++k) {
-            const std::uint32_t ei = xorder_[k];
-            const XEntry& e = entries_[ei];
-            live_.push_back(Live{interpolate(e.zl, e.zr, e.xl, e.xr, e.inv_width, xc),
-                                 interpolate(e.ql, e.qr, e.xl, e.xr, e.inv_width, xc), e.id, ei});
-        }
-        bucket_begin = bucket_end;
-        // Insertion sort by (depth, id): nearly sorted from the previous pixel, and the id
-        // makes equal depths order the same way whichever thread renders the line.
-        for (std::size_t i = 1; i < live_.size(); ++i) {
-            const Live l = live_[i];
-            std::size_t j = i;
-            while (j > 0 && (live_[j - 1].z > l.z || (live_[j - 1].z == l.z && live_[j - 1].id > l.id))) {
-                live_[j] = live_[j - 1];
-                --j;
-            }
-            live_[j] = l;
-        }
-        if (!live_.empty()) shade_pixel(x, y, live_.size());
+        PixelFragment pf;
+        pf.f.z = interpolate(zl, zr, xl, xr, inv_width, xc);
+        pf.f.q = interpolate(ql, qr, xl, xr, inv_width, xc);
+        pf.f.id = t.id;
+        pf.f.grid = t.grid;
+        pf.f.toggles = t.toggles;
+        pf.x = x;
+        b_.fragments.push_back(pf);
+        ++b_.xcount[x + 1];
     }
 }
 
-void Worker::shade_pixel(int x, int y, std::size_t n) {
+void Worker::process_line(int y) {
+    update_active(y);
+    const double yc = y + 0.5;
+    std::vector<PixelFragment>& frags = b_.fragments;
+    std::vector<std::uint32_t>& xcount = b_.xcount;
+    frags.clear();
+    std::fill(xcount.begin(), xcount.end(), 0u);
+    // X-buckets (§2.2): every crossing of a triangle with a pixel ray on this line.
+    for (const ActiveTriangle& a : b_.active) add_fragments(a.tri, yc);
+    const std::uint32_t* ids = ctx_.y_buckets;
+    const std::uint32_t* classes = ctx_.class_begin + static_cast<std::size_t>(y) * kSpanClasses;
+    const std::uint32_t one_line_end = classes[0];
+    cursor_ = 0;
+    for (std::uint32_t i = classes[1]; i < one_line_end; ++i) {
+        prefetch_ahead(ids, i, one_line_end);
+        ScanTriangle t;
+        fetch(ids[i], t);
+        add_fragments(t, yc);
+    }
+    if (frags.empty()) return;
+    // Counting sort by pixel; then each pixel's X-bucket in depth order, ties by id, so that
+    // equal depths order the same way whichever thread renders the line.
+    const int width = ctx_.width;
+    for (int x = 0; x < width; ++x) xcount[x + 1] += xcount[x];
+    std::vector<Fragment>& sorted = b_.sorted;
+    sorted.resize(frags.size());
+    // A running cursor per pixel: afterwards xcount[x] is the end of pixel x's bucket, i.e.
+    // the start of pixel x + 1's.
+    for (const PixelFragment& pf : frags) sorted[xcount[pf.x]++] = pf.f;
+    std::uint32_t begin = 0;
+    for (int x = 0; x < width; ++x) {
+        const std::uint32_t stop = xcount[x];
+        if (stop == begin) continue;
+        Fragment* k = sorted.data() + begin;
+        const std::size_t n = stop - begin;
+        if (n > 16) {
+            std::sort(k, k + n, [](const Fragment& a, const Fragment& b) { return depth_order(a, b); });
+        } else {
+            for (std::size_t i = 1; i < n; ++i) {
+                const Fragment f = k[i];
+                std::size_t j = i;
+                while (j > 0 && depth_order(f, k[j - 1])) {
+                    k[j] = k[j - 1];
+                    --j;
+                }
+                k[j] = f;
+            }
+        }
+        shade_pixel(x, y, k, n);
+        begin = stop;
+    }
+}
+
+void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     const DepthMap& dm = ctx_.geo->depth;
-    cross_.resize(n);
-    next_same_.resize(n);
+    std::vector<Crossing>& cross = b_.cross;
+    std::vector<int>& next_same = b_.next_same;
+    std::vector<int>& seen = b_.seen;
+    std::vector<int>& last = b_.last;
+    std::vector<std::uint8_t>& inside = b_.inside;
+    std::vector<std::uint32_t>& inside_list = b_.inside_list;
+    cross.resize(n);
+    next_same.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
-        const Live& l = live_[k];
-        const XEntry& e = entries_[l.entry];
-        cross_[k] = Crossing{l.z, l.q / dm.w(l.z), e.grid, e.toggles};
+        const Fragment& f = frags[k];
+        cross[k] = Crossing{f.z, f.q / dm.w(f.z), f.grid, f.toggles != 0};
     }
     crossings += n;
     // Next crossing of the same grid, for segments that other grids' crossings split.
     for (std::size_t k = n; k-- > 0;) {
-        const std::uint32_t g = cross_[k].grid;
-        next_same_[k] = seen_[g];
-        seen_[g] = static_cast<int>(k);
+        const std::uint32_t g = cross[k].grid;
+        next_same[k] = seen[g];
+        seen[g] = static_cast<int>(k);
     }
-    for (std::size_t k = 0; k < n; ++k) seen_[cross_[k].grid] = -1;
+    for (std::size_t k = 0; k < n; ++k) seen[cross[k].grid] = -1;
 
     const double inv_cos = dm.inv_cos(x + 0.5, y + 0.5);
     bool clip_in = !ctx_.clip;
-    inside_list_.clear();
+    inside_list.clear();
     SegmentColor acc;
     glm::dvec3 sum(0.0);
     const TransferFunction& tf = *ctx_.tf;
 
     // Scalar of grid g (segment from its crossing a to b) at crossing k.
     auto scalar_at = [&](int a, int b, std::size_t k) {
-        if (static_cast<std::size_t>(a) == k) return cross_[a].s;
-        if (static_cast<std::size_t>(b) == k) return cross_[b].s;
-        const double span = dm.eye_delta(cross_[a].z, cross_[b].z);
-        if (!(span > 0.0)) return cross_[a].s;
-        const double u = dm.eye_delta(cross_[a].z, cross_[k].z) / span;
-        return cross_[a].s + (cross_[b].s - cross_[a].s) * u;
+        if (static_cast<std::size_t>(a) == k) return cross[a].s;
+        if (static_cast<std::size_t>(b) == k) return cross[b].s;
+        const double span = dm.eye_delta(cross[a].z, cross[b].z);
+        if (!(span > 0.0)) return cross[a].s;
+        const double u = dm.eye_delta(cross[a].z, cross[k].z) / span;
+        return cross[a].s + (cross[b].s - cross[a].s) * u;
     };
 
     for (std::size_t k = 0; k < n; ++k) {
-        const Crossing& c = cross_[k];
+        const Crossing& c = cross[k];
         if (c.toggles) {
             if (c.grid == ctx_.clip_grid) {
                 clip_in = !clip_in;
-            } else if (inside_[c.grid]) {
-                inside_[c.grid] = 0;
-                inside_list_.erase(std::find(inside_list_.begin(), inside_list_.end(), c.grid));
+            } else if (inside[c.grid]) {
+                inside[c.grid] = 0;
+                inside_list.erase(std::find(inside_list.begin(), inside_list.end(), c.grid));
             } else {
-                inside_[c.grid] = 1;
-                inside_list_.push_back(c.grid);
+                inside[c.grid] = 1;
+                inside_list.push_back(c.grid);
             }
         }
-        last_[c.grid] = static_cast<int>(k);
-        if (k + 1 == n || !clip_in || inside_list_.empty()) continue;
-        const double length = dm.eye_delta(c.z, cross_[k + 1].z) * inv_cos;
+        last[c.grid] = static_cast<int>(k);
+        if (k + 1 == n || !clip_in || inside_list.empty()) continue;
+        const double length = dm.eye_delta(c.z, cross[k + 1].z) * inv_cos;
         if (!(length > 0.0)) continue;
 
-        if (inside_list_.size() == 1) {
-            const std::uint32_t g = inside_list_[0];
-            const int a = last_[g], b = next_same_[a];
+        if (inside_list.size() == 1) {
+            const std::uint32_t g = inside_list[0];
+            const int a = last[g], b = next_same[a];
             if (b < 0) { ++lost; continue; }
             const double sf = scalar_at(a, b, k), sb = scalar_at(a, b, k + 1);
             switch (ctx_.model) {
@@ -413,8 +512,8 @@ void Worker::shade_pixel(int x, int y, std::size_t n) {
         // Several grids over this span: their media add (see the header).
         double tau = 0.0;
         glm::dvec3 weighted(0.0);
-        for (std::uint32_t g : inside_list_) {
-            const int a = last_[g], b = next_same_[a];
+        for (std::uint32_t g : inside_list) {
+            const int a = last[g], b = next_same[a];
             if (b < 0) { ++lost; continue; }
             const double sf = scalar_at(a, b, k), sb = scalar_at(a, b, k + 1);
             switch (ctx_.model) {
@@ -436,7 +535,7 @@ void Worker::shade_pixel(int x, int y, std::size_t n) {
             acc = composite(acc, mixed);
         }
     }
-    for (std::uint32_t g : inside_list_) inside_[g] = 0;
+    for (std::uint32_t g : inside_list) inside[g] = 0;
 
     glm::vec4& out = ctx_.image->at(x, y);
     if (ctx_.model == OpticalModel::EmissionAbsorption) {
@@ -542,10 +641,18 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     threads = std::min(threads, 256u);
     const int lines_per_task = std::max(1, options.lines_per_task);
 
+    // The buffers of an earlier frame, or new ones when another render() holds them.
+    std::unique_ptr<FrameBuffers> buffers;
+    {
+        std::lock_guard<std::mutex> lock(spare_mutex_);
+        buffers = std::move(spare_);
+    }
+    if (!buffers) buffers = std::make_unique<FrameBuffers>();
+    FrameBuffers& fb = *buffers;
+
     // ---- 1. points to screen space, depth in pixels (§5)
     FrameGeometry geo;
     geo.mesh = &mesh_;
-    geo.scalars = field.values.data();
     geo.view = camera.view_matrix();
     geo.near = camera.near_distance;
     DepthMap& dm = geo.depth;
@@ -562,7 +669,9 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         dm.zr = std::max(center_depth, camera.near_distance);
     }
     const std::size_t point_count = mesh_.point_count();
+    geo.points.swap(fb.points);
     geo.points.resize(point_count);
+    const float* scalars = field.values.data();
     std::vector<std::size_t> behind_per_thread(threads, 0);
     run_threads(threads, [&](unsigned t) {
         const std::size_t lo = point_count * t / threads, hi = point_count * (t + 1) / threads;
@@ -572,13 +681,16 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
             const glm::dvec3 e = glm::dvec3(v * glm::dvec4(mesh_.points[i], 1.0));
             const double ze = -e.z;
             ScreenPoint& s = geo.points[i];
+            s.s = scalars[i];
             if (ze < geo.near) {
-                s = ScreenPoint{0.0, 0.0, scanline::kBehind};
+                s.x = s.y = 0.0f;
+                s.z = static_cast<float>(scanline::kBehind);
                 ++behind;
-            } else if (dm.ortho) {
-                s = ScreenPoint{dm.cx + dm.f * e.x, dm.cy + dm.f * e.y, dm.to_screen(ze)};
             } else {
-                s = ScreenPoint{dm.cx + dm.f * e.x / ze, dm.cy + dm.f * e.y / ze, dm.to_screen(ze)};
+                const double k = dm.ortho ? dm.f : dm.f / ze;
+                s.x = static_cast<float>(dm.cx + k * e.x);
+                s.y = static_cast<float>(dm.cy + k * e.y);
+                s.z = static_cast<float>(dm.to_screen(ze));
             }
         }
         behind_per_thread[t] = behind;
@@ -647,35 +759,55 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         }
     }
 
-    // ---- 3. Y-buckets, pass 1: per-thread counts and bucket_clip_info (§3)
+    // ---- 3. Y-buckets, pass 1: per-thread counts and bucket_clip_info (§3, Figure 7). Each
+    // bucket is ordered by the number of scan lines its triangles cover, longest first, so
+    // that a worker that skipped lines reads exactly the triangles still active (see
+    // Worker::update_active) and one-line triangles (a third of a large mesh's) never enter
+    // an active list.
     const std::size_t base_triangles = triangles_.size() / 3;
-    std::vector<std::uint16_t> clip_info(base_triangles);
     const std::size_t H = static_cast<std::size_t>(height);
-    std::vector<std::uint32_t> counts((threads + 1) * H, 0); // row `threads`: the extra triangles
+    const std::size_t slots = threads + 1; // per thread, then the per-frame extra triangles
+    auto count_index = [&](int span, std::size_t slot, std::size_t row) {
+        return (static_cast<std::size_t>(span) * slots + slot) * H + row;
+    };
+    fb.clip_info.resize(base_triangles);
+    fb.span_class.resize((base_triangles + 15) / 16);
+    fb.counts.assign(kSpanClasses * slots * H, 0);
+    // Thread ranges start on multiples of 64 so that each thread writes whole words of
+    // span_class.
+    auto split = [&](unsigned t) {
+        return t == threads ? base_triangles : (base_triangles * t / threads) & ~std::size_t(63);
+    };
     std::vector<std::vector<std::uint32_t>> straddling(threads);
     run_threads(threads, [&](unsigned t) {
-        const std::size_t lo = base_triangles * t / threads, hi = base_triangles * (t + 1) / threads;
-        std::uint32_t* count = counts.data() + t * H;
+        const std::size_t lo = split(t), hi = split(t + 1);
+        std::uint16_t* clip_info = fb.clip_info.data();
+        std::uint32_t* count = fb.counts.data();
+        std::uint64_t word = 0;
         for (std::size_t i = lo; i < hi; ++i) {
             const std::uint32_t* tri = triangles_.data() + 3 * i;
             const ScreenPoint& a = geo.points[tri[0]];
             const ScreenPoint& b = geo.points[tri[1]];
             const ScreenPoint& c = geo.points[tri[2]];
-            if (a.z == scanline::kBehind || b.z == scanline::kBehind || c.z == scanline::kBehind) {
-                clip_info[i] = kDropped;
-                if (a.z != scanline::kBehind || b.z != scanline::kBehind || c.z != scanline::kBehind) {
-                    straddling[t].push_back(static_cast<std::uint32_t>(i));
+            clip_info[i] = kDropped;
+            const bool a_behind = a.z == scanline::kBehind, b_behind = b.z == scanline::kBehind,
+                       c_behind = c.z == scanline::kBehind;
+            if (a_behind || b_behind || c_behind) {
+                if (!(a_behind && b_behind && c_behind)) straddling[t].push_back(static_cast<std::uint32_t>(i));
+            } else {
+                const double xs[3] = {a.x, b.x, c.x}, ys[3] = {a.y, b.y, c.y};
+                const Rows rows = rows_of(xs, ys, rect);
+                if (rows.first >= 0) {
+                    clip_info[i] = static_cast<std::uint16_t>(rows.first);
+                    const int span = span_class(rows);
+                    word |= std::uint64_t(span) << (4 * (i % 16));
+                    ++count[count_index(span, t, static_cast<std::size_t>(rows.first))];
                 }
-                continue;
             }
-            const double xs[3] = {a.x, b.x, c.x}, ys[3] = {a.y, b.y, c.y};
-            const int row = bucket_of(xs, ys, rect);
-            if (row < 0) {
-                clip_info[i] = kDropped;
-                continue;
+            if (i % 16 == 15 || i + 1 == hi) {
+                fb.span_class[i / 16] = word;
+                word = 0;
             }
-            clip_info[i] = static_cast<std::uint16_t>(row);
-            ++count[row];
         }
     });
     // Triangles cut by the near plane: clipped pieces become extra triangles.
@@ -692,42 +824,55 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         }
     }
     const std::size_t extra_count = geo.extra_triangles.size();
-    std::vector<int> extra_bucket(extra_count);
+    std::vector<Rows> extra_rows(extra_count);
     for (std::size_t i = 0; i < extra_count; ++i) {
         const ExtraTriangle& e = geo.extra_triangles[i];
-        const Vertex& a = geo.extra_vertices[e.v[0]];
-        const Vertex& b = geo.extra_vertices[e.v[1]];
-        const Vertex& c = geo.extra_vertices[e.v[2]];
+        const ScreenPoint& a = geo.extra_vertices[e.v[0]];
+        const ScreenPoint& b = geo.extra_vertices[e.v[1]];
+        const ScreenPoint& c = geo.extra_vertices[e.v[2]];
         const double xs[3] = {a.x, b.x, c.x}, ys[3] = {a.y, b.y, c.y};
-        extra_bucket[i] = bucket_of(xs, ys, rect);
-        if (extra_bucket[i] >= 0) ++counts[threads * H + static_cast<std::size_t>(extra_bucket[i])];
-    }
-    // Offsets (Figure 7): bucket-major, thread-minor.
-    std::vector<std::uint32_t> offsets((threads + 1) * H);
-    std::vector<std::uint32_t> bucket_start(H + 1);
-    std::uint32_t total = 0;
-    for (std::size_t b = 0; b < H; ++b) {
-        bucket_start[b] = total;
-        for (unsigned t = 0; t <= threads; ++t) {
-            offsets[t * H + b] = total;
-            total += counts[t * H + b];
+        extra_rows[i] = rows_of(xs, ys, rect);
+        if (extra_rows[i].first >= 0) {
+            ++fb.counts[count_index(span_class(extra_rows[i]), threads, static_cast<std::size_t>(extra_rows[i].first))];
         }
     }
-    bucket_start[H] = total;
+    // Offsets (Figure 7): bucket-major, then span class from long to short, then thread.
+    // Within one class of a bucket the ids ascend (threads own ascending id ranges, extra
+    // triangles come last).
+    fb.offsets.resize(kSpanClasses * slots * H);
+    fb.bucket_start.resize(H + 1);
+    fb.class_begin.resize(kSpanClasses * H);
+    std::uint32_t total = 0;
+    for (std::size_t b = 0; b < H; ++b) {
+        fb.bucket_start[b] = total;
+        for (int span = kSpanClasses - 1; span >= 1; --span) {
+            fb.class_begin[b * kSpanClasses + static_cast<std::size_t>(span)] = total;
+            for (std::size_t t = 0; t < slots; ++t) {
+                fb.offsets[count_index(span, t, b)] = total;
+                total += fb.counts[count_index(span, t, b)];
+            }
+        }
+        fb.class_begin[b * kSpanClasses] = total; // end of the bucket
+    }
+    fb.bucket_start[H] = total;
     // Pass 2: the same triangles, placed with the offsets.
-    std::vector<std::uint32_t> y_buckets(total);
+    fb.y_buckets.resize(total);
     run_threads(threads, [&](unsigned t) {
-        const std::size_t lo = base_triangles * t / threads, hi = base_triangles * (t + 1) / threads;
-        std::uint32_t* offset = offsets.data() + t * H;
+        const std::size_t lo = split(t), hi = split(t + 1);
+        std::uint32_t* offsets = fb.offsets.data();
+        const std::uint16_t* clip_info = fb.clip_info.data();
+        std::uint32_t* y_buckets = fb.y_buckets.data();
         for (std::size_t i = lo; i < hi; ++i) {
-            if (clip_info[i] != kDropped) y_buckets[offset[clip_info[i]]++] = static_cast<std::uint32_t>(i);
+            if (clip_info[i] == kDropped) continue;
+            const int span = static_cast<int>((fb.span_class[i / 16] >> (4 * (i % 16))) & 15);
+            y_buckets[offsets[count_index(span, t, clip_info[i])]++] = static_cast<std::uint32_t>(i);
         }
     });
     for (std::size_t i = 0; i < extra_count; ++i) {
-        if (extra_bucket[i] >= 0) {
-            y_buckets[offsets[threads * H + static_cast<std::size_t>(extra_bucket[i])]++] =
-                static_cast<std::uint32_t>(base_triangles + i);
-        }
+        if (extra_rows[i].first < 0) continue;
+        const auto row = static_cast<std::size_t>(extra_rows[i].first);
+        fb.y_buckets[fb.offsets[count_index(span_class(extra_rows[i]), threads, row)]++] =
+            static_cast<std::uint32_t>(base_triangles + i);
     }
     const double t_buckets = seconds_since(t_buckets_start);
     const auto t_scan_start = std::chrono::steady_clock::now();
@@ -736,15 +881,12 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     Image image(width, height);
     FrameContext ctx;
     ctx.geo = &geo;
-    ctx.triangles = &triangles_;
-    for (std::size_t b = 0; b < ranges_.size(); ++b) {
-        ctx.range_begin.push_back(ranges_[b].begin);
-        ctx.range_surface_end.push_back(ranges_[b].surface_end);
-        ctx.range_grid.push_back(static_cast<std::uint32_t>(b));
-    }
+    ctx.triangles = triangles_.data();
+    ctx.ranges = &ranges_;
     ctx.base_triangles = base_triangles;
-    ctx.y_buckets = &y_buckets;
-    ctx.bucket_start = &bucket_start;
+    ctx.y_buckets = fb.y_buckets.data();
+    ctx.bucket_start = fb.bucket_start.data();
+    ctx.class_begin = fb.class_begin.data();
     ctx.rect = rect;
     ctx.width = width;
     ctx.height = height;
@@ -757,9 +899,10 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
 
     std::atomic<int> next_task{0};
     const int tasks = (height + lines_per_task - 1) / lines_per_task;
-    std::vector<std::size_t> crossings(threads, 0), lost(threads, 0), active_bytes(threads, 0), x_bytes(threads, 0);
+    if (fb.workers.size() < threads) fb.workers.resize(threads);
+    std::vector<std::size_t> crossings(threads, 0), lost(threads, 0);
     run_threads(threads, [&](unsigned t) {
-        Worker worker(ctx);
+        Worker worker(ctx, fb.workers[t]);
         for (;;) {
             const int task = next_task.fetch_add(1, std::memory_order_relaxed);
             if (task >= tasks) break;
@@ -769,8 +912,6 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         }
         crossings[t] = worker.crossings;
         lost[t] = worker.lost;
-        active_bytes[t] = worker.peak_active_bytes;
-        x_bytes[t] = worker.peak_x_bytes;
     });
     const double t_scan = seconds_since(t_scan_start);
 
@@ -781,29 +922,37 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         s.seconds_transform = t_transform;
         s.seconds_y_buckets = t_buckets;
         s.seconds_scan = t_scan;
-        s.seconds_total = seconds_since(t_start);
         s.triangles_total = base_triangles;
         s.triangles_surface = surface_triangles_;
         s.triangles_active = total;
         s.triangles_near_clipped = near_clipped;
         s.cap_triangles = cap_triangles;
+        ScanlineMemory& m = s.memory;
         for (unsigned t = 0; t < threads; ++t) {
             s.crossings += crossings[t];
             s.lost_segments += lost[t];
-            s.memory.active_lists += active_bytes[t];
-            s.memory.x_buckets += x_bytes[t];
         }
-        ScanlineMemory& m = s.memory;
+        for (const WorkerBuffers& w : fb.workers) {
+            m.active_lists += w.active_bytes();
+            m.x_buckets += w.x_bytes();
+        }
         m.mesh = mesh_.memory_bytes();
-        m.triangles = memory_bytes() + geo.extra_triangles.capacity() * sizeof(ExtraTriangle) +
-                      geo.extra_vertices.capacity() * sizeof(Vertex);
-        m.transformed_points = geo.points.capacity() * sizeof(ScreenPoint);
-        m.y_buckets = (y_buckets.capacity() + bucket_start.capacity() + counts.capacity() + offsets.capacity()) *
-                      sizeof(std::uint32_t);
-        m.bucket_clip_info = clip_info.capacity() * sizeof(std::uint16_t);
-        m.frame_buffer = image.pixels.capacity() * sizeof(glm::vec4);
+        m.triangles = memory_bytes() + bytes(geo.extra_triangles) + bytes(geo.extra_vertices);
+        m.transformed_points = bytes(geo.points);
+        m.y_buckets = bytes(fb.y_buckets) + bytes(fb.bucket_start) + bytes(fb.class_begin) + bytes(fb.counts) +
+                      bytes(fb.offsets);
+        m.bucket_clip_info = bytes(fb.clip_info) + bytes(fb.span_class);
+        m.frame_buffer = bytes(image.pixels);
     }
+    geo.points.swap(fb.points);
+    {
+        std::lock_guard<std::mutex> lock(spare_mutex_);
+        if (!spare_) spare_ = std::move(buffers);
+    }
+    if (stats) stats->seconds_total = seconds_since(t_start);
     return image;
 }
+
+ScanlineRenderer::~ScanlineRenderer() = default;
 
 } // namespace fx
