@@ -128,8 +128,8 @@ struct ScanlineStats {
 
 class ScanlineRenderer {
 public:
-    // Builds the triangles (face topology is computed here and discarded). Throws fx::Error
-    // for non-finite points or indices out of range.
+    // Builds the triangle table (face topology is computed here and discarded). Throws
+    // fx::Error for non-finite points, indices out of range or more than 2^27 cells.
     explicit ScanlineRenderer(const CellMesh& mesh);
     ~ScanlineRenderer();
     ScanlineRenderer(const ScanlineRenderer&) = delete;
@@ -142,21 +142,20 @@ public:
                  const TransferFunction& tf, const ScanlineOptions& options = {},
                  ScanlineStats* stats = nullptr) const;
 
-    std::size_t triangle_count() const { return triangles_.size() / 3; }
+    std::size_t triangle_count() const { return codes_.size(); }
     std::size_t surface_triangle_count() const { return surface_triangles_; }
-    std::size_t grid_count() const { return ranges_.size(); }
-    std::size_t memory_bytes() const; // the per-mesh triangle tables
-
-    // Triangles are stored grouped per block, each block's grid-surface triangles first.
-    struct TriangleRange {
-        std::uint32_t begin = 0, end = 0;     // triangles [begin, end) ...
-        std::uint32_t surface_end = 0;        // ... of which [begin, surface_end) are surfaces
-    };
+    std::size_t grid_count() const { return blocks_.size(); }
+    std::size_t memory_bytes() const; // the per-mesh triangle table
 
 private:
     const CellMesh& mesh_;
-    std::vector<std::uint32_t> triangles_; // 3 point indices per triangle
-    std::vector<TriangleRange> ranges_;    // one per block
+    // One 32-bit code per triangle, in cell order: cell << 5 | face << 2 | half << 1 |
+    // grid surface (the paper's sequential identifier; its points come from the mesh).
+    std::vector<std::uint32_t> codes_;
+    struct CellRange {
+        std::uint32_t begin = 0, end = 0; // cells of one block (grid)
+    };
+    std::vector<CellRange> blocks_;
     std::size_t surface_triangles_ = 0;
     // Per-frame buffers kept for the next render() (none while a render() holds them).
     mutable std::mutex spare_mutex_;

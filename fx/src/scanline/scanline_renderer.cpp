@@ -155,12 +155,17 @@ void run_threads(unsigned threads, const Fn& fn) {
 }
 
 // Smallest pixel index whose centre (i + 0.5) is ≥ v, and largest whose centre is < v.
-// v is clamped first so that far off-screen values cannot overflow an int.
-int first_center_at_or_after(double v) {
-    v = std::clamp(v, -1.0e9, 1.0e9);
-    return static_cast<int>(std::ceil(v - 0.5));
+// v is clamped first so that far off-screen values cannot overflow an int (NaN counts as far
+// off). ceil() by truncation and one exact comparison: std::ceil is a library call on
+// baseline x86-64, and this runs for every triangle on every scan line.
+inline int first_center_at_or_after(double v) {
+    double w = v - 0.5;
+    if (!(w > -1.0e9)) w = -1.0e9;
+    if (!(w < 1.0e9)) w = 1.0e9;
+    const int i = static_cast<int>(w); // towards zero
+    return static_cast<double>(i) < w ? i + 1 : i;
 }
-int last_center_before(double v) { return first_center_at_or_after(v) - 1; }
+inline int last_center_before(double v) { return first_center_at_or_after(v) - 1; }
 
 // §2.3: x = x1/(y1−y0)·(y−y0) + x0/(y1−y0)·(y1−y), exact at both endpoints. Callers pass an
 // edge's endpoints in a fixed order (lower y first), so two triangles sharing an edge get
@@ -200,18 +205,44 @@ Rows rows_of(const double x[3], const double y[3], const Rect& r) {
 constexpr int kSpanClasses = 16;
 int span_class(const Rows& r) { return std::min(r.last - r.first + 1, kSpanClasses - 1); }
 
+// Triangle codes. A mesh triangle is cell << 5 | face << 2 | half << 1 | surface: half h of
+// triangulate_face() on face `face` of cell `cell`. A per-frame extra triangle (near-plane
+// piece, cap, clip-box polygon) is index << 5 | 7 << 2 | toggles. Codes are unique and the
+// same whichever thread meets them, so they break depth ties.
+constexpr std::uint32_t kExtraFace = 7;
+constexpr std::size_t kMaxCells = std::size_t(1) << 27;
+constexpr std::uint32_t mesh_code(std::size_t cell, int face, int half, bool surface) {
+    return static_cast<std::uint32_t>(cell << 5) | static_cast<std::uint32_t>(face) << 2 |
+           static_cast<std::uint32_t>(half) << 1 | (surface ? 1u : 0u);
+}
+constexpr std::uint32_t extra_code(std::size_t index, bool toggles) {
+    return static_cast<std::uint32_t>(index << 5) | kExtraFace << 2 | (toggles ? 1u : 0u);
+}
+constexpr bool is_extra(std::uint32_t code) { return ((code >> 2) & 7) == kExtraFace; }
+constexpr std::uint32_t code_index(std::uint32_t code) { return code >> 5; } // cell or extra index
+constexpr bool code_toggles(std::uint32_t code) { return (code & 1) != 0; }
+
+// The point ids of mesh triangle `code`, in triangulate_face()'s order.
+inline void mesh_triangle(const CellMesh& mesh, std::uint32_t code, std::uint32_t out[3]) {
+    const std::uint32_t cell = code_index(code);
+    std::uint32_t tri[2][3];
+    triangulate_face(cell_faces(mesh.cell_types[cell])[(code >> 2) & 7], mesh.cell_vertices(cell), tri);
+    const std::uint32_t* t = tri[(code >> 1) & 1];
+    out[0] = t[0], out[1] = t[1], out[2] = t[2];
+}
+
 // Everything one frame needs, shared read-only by the workers.
 struct FrameContext {
     const FrameGeometry* geo;
-    const std::uint32_t* triangles;  // 3 point ids per mesh triangle
-    const std::vector<ScanlineRenderer::TriangleRange>* ranges;
-    std::size_t base_triangles;
-    const std::uint32_t* y_buckets;
+    const CellMesh* mesh;
+    std::vector<std::uint32_t> block_begin, block_end; // cells of each grid
+    const std::uint32_t* y_buckets; // triangle codes
     // Bucket b is y_buckets[bucket_start[b] .. bucket_start[b + 1]), its span classes from 15
     // down to 1; class c starts at class_begin[16 b + c] and ends where class c − 1 starts
     // (class_begin[16 b] is the end of the bucket).
     const std::uint32_t* bucket_start; // height + 1 entries
     const std::uint32_t* class_begin;  // 16 · height entries
+    std::size_t max_active;            // most triangles active on one line (never exceeded)
     Rect rect;
     int width, height;
     std::uint32_t grid_count; // blocks + 1 (the clip box)
@@ -234,6 +265,7 @@ class Worker {
 public:
     Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers) {
         b_.active.clear();
+        b_.active.reserve(ctx.max_active);
         b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
         b_.inside.assign(ctx.grid_count, 0);
         b_.last.assign(ctx.grid_count, -1);
@@ -247,13 +279,13 @@ public:
     std::size_t lost = 0;
 
 private:
-    // Fetches triangle `id` with its vertices sorted bottom to top. Ids ascend along a
-    // bucket's span class, so the block is found by moving a cursor.
-    void fetch(std::uint32_t id, ScanTriangle& t);
+    // Fetches triangle `code` with its vertices sorted bottom to top. Codes ascend along a
+    // bucket's span class, so the grid is found by moving a cursor.
+    void fetch(std::uint32_t code, ScanTriangle& t);
     // Appends the triangles of y_buckets[begin, end) still active on line y.
     void load_active(std::uint32_t begin, std::uint32_t end, int y);
     // Prefetches what fetch() will read for the bucket entries ahead of `i` in [i, end).
-    void prefetch_ahead(const std::uint32_t* ids, std::uint32_t i, std::uint32_t end) const;
+    void prefetch_ahead(const std::uint32_t* codes, std::uint32_t i, std::uint32_t end) const;
     SVertex vertex(const ScreenPoint& p) const; // with q = s·w
     void update_active(int y);
     // Cuts t with scan line yc: appends one fragment per covered pixel.
@@ -272,38 +304,45 @@ SVertex Worker::vertex(const ScreenPoint& p) const {
     return SVertex{p.x, p.y, z, static_cast<double>(p.s) * ctx_.geo->depth.w(z)};
 }
 
-void Worker::prefetch_ahead(const std::uint32_t* ids, std::uint32_t i, std::uint32_t end) const {
-    // Two stages: the triangle's point ids far ahead, its points nearer (their ids are in
-    // cache by then). Most triangles are used once per frame, so the loads would otherwise
-    // wait on memory one after another.
-    constexpr std::uint32_t kFar = 16, kNear = 8;
-    const std::size_t base = ctx_.base_triangles;
-    if (i + kFar < end && ids[i + kFar] < base) prefetch(ctx_.triangles + 3 * static_cast<std::size_t>(ids[i + kFar]));
-    if (i + kNear < end && ids[i + kNear] < base) {
-        const std::uint32_t* tri = ctx_.triangles + 3 * static_cast<std::size_t>(ids[i + kNear]);
-        const ScreenPoint* pts = ctx_.geo->points.data();
-        prefetch(pts + tri[0]);
-        prefetch(pts + tri[1]);
-        prefetch(pts + tri[2]);
+void Worker::prefetch_ahead(const std::uint32_t* codes, std::uint32_t i, std::uint32_t end) const {
+    // Three stages along the bucket: the cell's connectivity offset far ahead, its point ids
+    // nearer, the face's points nearest (each stage reads what the previous one fetched).
+    // Most triangles are used once per frame, so their loads would otherwise wait on memory
+    // one after another.
+    constexpr std::uint32_t kFar = 24, kMid = 12, kNear = 6;
+    const CellMesh& mesh = *ctx_.mesh;
+    if (i + kFar < end && !is_extra(codes[i + kFar])) {
+        const std::uint32_t cell = code_index(codes[i + kFar]);
+        prefetch(&mesh.cell_offsets[cell]);
+        prefetch(&mesh.cell_types[cell]);
+    }
+    if (i + kMid < end && !is_extra(codes[i + kMid])) prefetch(mesh.cell_vertices(code_index(codes[i + kMid])));
+    if (i + kNear < end && !is_extra(codes[i + kNear])) {
+        const std::uint32_t code = codes[i + kNear];
+        const std::uint32_t cell = code_index(code);
+        const CellFace& face = cell_faces(mesh.cell_types[cell])[(code >> 2) & 7];
+        const std::uint32_t* cv = mesh.cell_vertices(cell);
+        const ScreenPoint* points = ctx_.geo->points.data();
+        for (int k = 0; k < face.count; ++k) prefetch(points + cv[face.v[k]]);
     }
 }
 
-void Worker::fetch(std::uint32_t id, ScanTriangle& t) {
+void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
     const FrameGeometry& geo = *ctx_.geo;
-    t.id = id;
-    if (id < ctx_.base_triangles) {
-        const std::uint32_t* tri = ctx_.triangles + 3 * static_cast<std::size_t>(id);
-        for (int i = 0; i < 3; ++i) t.v[i] = geo.points[tri[i]];
-        const std::vector<ScanlineRenderer::TriangleRange>& ranges = *ctx_.ranges;
-        if (id < ranges[cursor_].begin) cursor_ = 0;
-        while (id >= ranges[cursor_].end) ++cursor_;
+    t.id = code;
+    t.toggles = code_toggles(code);
+    if (!is_extra(code)) {
+        std::uint32_t ids[3];
+        mesh_triangle(*ctx_.mesh, code, ids);
+        for (int i = 0; i < 3; ++i) t.v[i] = geo.points[ids[i]];
+        const std::uint32_t cell = code_index(code);
+        if (cell < ctx_.block_begin[cursor_]) cursor_ = 0;
+        while (cell >= ctx_.block_end[cursor_]) ++cursor_;
         t.grid = static_cast<std::uint32_t>(cursor_);
-        t.toggles = id < ranges[cursor_].surface_end;
     } else {
-        const ExtraTriangle& e = geo.extra_triangles[id - ctx_.base_triangles];
+        const ExtraTriangle& e = geo.extra_triangles[code_index(code)];
         for (int i = 0; i < 3; ++i) t.v[i] = geo.extra_vertices[e.v[i]];
         t.grid = e.grid;
-        t.toggles = e.toggles;
     }
     // Sort the three vertices bottom to top.
     if (t.v[1].y < t.v[0].y) std::swap(t.v[0], t.v[1]);
@@ -324,6 +363,17 @@ void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
 }
 
 void Worker::update_active(int y) {
+    // Remove finished triangles by moving the last one into their place: the order of the
+    // active list does not matter, pixels order their crossings by (depth, id).
+    std::vector<ActiveTriangle>& active = b_.active;
+    for (std::size_t i = 0; i < active.size();) {
+        if (active[i].last_row < y) {
+            active[i] = active.back();
+            active.pop_back();
+        } else {
+            ++i;
+        }
+    }
     // Buckets of lines skipped since this worker's last line (taken by other workers) and of
     // line y itself. A triangle of bucket b covers lines b .. b + span − 1, so only the span
     // classes ≥ y − b + 1 (a prefix of the bucket) are still active on line y: exactly those
@@ -336,17 +386,6 @@ void Worker::update_active(int y) {
         load_active(ctx_.bucket_start[b], begin[cls - 1], y);
     }
     current_line_ = y;
-    // Remove finished triangles by moving the last one into their place: the order of the
-    // active list does not matter, pixels order their crossings by (depth, id).
-    std::vector<ActiveTriangle>& active = b_.active;
-    for (std::size_t i = 0; i < active.size();) {
-        if (active[i].last_row < y) {
-            active[i] = active.back();
-            active.pop_back();
-        } else {
-            ++i;
-        }
-    }
 }
 
 void Worker::add_fragments(const ScanTriangle& t, double yc) {
@@ -449,11 +488,47 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     std::vector<std::uint32_t>& inside_list = b_.inside_list;
     cross.resize(n);
     next_same.resize(n);
+    bool one_grid = true;
     for (std::size_t k = 0; k < n; ++k) {
         const Fragment& f = frags[k];
         cross[k] = Crossing{f.z, f.q / dm.w(f.z), f.grid, f.toggles != 0};
+        one_grid = one_grid && f.grid == frags[0].grid;
     }
     crossings += n;
+    const double inv_cos = dm.inv_cos(x + 0.5, y + 0.5);
+    const TransferFunction& tf = *ctx_.tf;
+    SegmentColor acc;
+    glm::dvec3 sum(0.0);
+    // One medium between front scalar sf and back scalar sb over `length`.
+    auto integrate = [&](double sf, double sb, double length) {
+        switch (ctx_.model) {
+        case OpticalModel::EmissionAbsorption: acc = composite(acc, emission_absorption(tf, sf, sb, length)); break;
+        case OpticalModel::Emission: sum += emission_integral(tf, sf, sb, length); break;
+        case OpticalModel::Maximum: sum = glm::max(sum, segment_maximum(tf, sf, sb)); break;
+        }
+    };
+    auto write = [&]() {
+        glm::vec4& out = ctx_.image->at(x, y);
+        if (ctx_.model == OpticalModel::EmissionAbsorption) {
+            out = glm::vec4(glm::vec3(acc.color), static_cast<float>(acc.alpha));
+        } else {
+            out = glm::vec4(glm::vec3(sum), 0.0f);
+        }
+    };
+
+    if (one_grid && !ctx_.clip) {
+        // The common case, the general walk below reduced to one grid: every segment runs
+        // from a crossing of the grid to the next one.
+        bool in = false;
+        for (std::size_t k = 0; k + 1 < n; ++k) {
+            if (cross[k].toggles) in = !in;
+            if (!in) continue;
+            const double length = dm.eye_delta(cross[k].z, cross[k + 1].z) * inv_cos;
+            if (length > 0.0) integrate(cross[k].s, cross[k + 1].s, length);
+        }
+        write();
+        return;
+    }
     // Next crossing of the same grid, for segments that other grids' crossings split.
     for (std::size_t k = n; k-- > 0;) {
         const std::uint32_t g = cross[k].grid;
@@ -462,12 +537,8 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     }
     for (std::size_t k = 0; k < n; ++k) seen[cross[k].grid] = -1;
 
-    const double inv_cos = dm.inv_cos(x + 0.5, y + 0.5);
     bool clip_in = !ctx_.clip;
     inside_list.clear();
-    SegmentColor acc;
-    glm::dvec3 sum(0.0);
-    const TransferFunction& tf = *ctx_.tf;
 
     // Scalar of grid g (segment from its crossing a to b) at crossing k.
     auto scalar_at = [&](int a, int b, std::size_t k) {
@@ -501,12 +572,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
             const std::uint32_t g = inside_list[0];
             const int a = last[g], b = next_same[a];
             if (b < 0) { ++lost; continue; }
-            const double sf = scalar_at(a, b, k), sb = scalar_at(a, b, k + 1);
-            switch (ctx_.model) {
-            case OpticalModel::EmissionAbsorption: acc = composite(acc, emission_absorption(tf, sf, sb, length)); break;
-            case OpticalModel::Emission: sum += emission_integral(tf, sf, sb, length); break;
-            case OpticalModel::Maximum: sum = glm::max(sum, segment_maximum(tf, sf, sb)); break;
-            }
+            integrate(scalar_at(a, b, k), scalar_at(a, b, k + 1), length);
             continue;
         }
         // Several grids over this span: their media add (see the header).
@@ -536,13 +602,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         }
     }
     for (std::uint32_t g : inside_list) inside[g] = 0;
-
-    glm::vec4& out = ctx_.image->at(x, y);
-    if (ctx_.model == OpticalModel::EmissionAbsorption) {
-        out = glm::vec4(glm::vec3(acc.color), static_cast<float>(acc.alpha));
-    } else {
-        out = glm::vec4(glm::vec3(sum), 0.0f);
-    }
+    write();
 }
 
 } // namespace
@@ -561,6 +621,10 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
                         std::to_string(mesh.point_count()) + " points");
         }
     }
+    if (mesh.cell_count() > kMaxCells) {
+        throw Error("scan-line renderer: the mesh has " + std::to_string(mesh.cell_count()) +
+                    " cells; at most 2^27 (134217728) are supported");
+    }
     const FaceTopology topo = build_face_topology(mesh);
     std::vector<std::uint32_t> block_of(mesh.cell_count(), 0);
     for (std::size_t b = 0; b < mesh.blocks.size(); ++b) {
@@ -571,41 +635,31 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
     }
     std::size_t estimate = 0;
     for (std::size_t c = 0; c < mesh.cell_count(); ++c) estimate += 2 * cell_face_count(mesh.cell_types[c]);
-    triangles_.reserve(3 * estimate / 2 + 64);
-    auto emit = [&](std::size_t c, int f) {
-        const CellFace& face = cell_faces(mesh.cell_types[c])[f];
-        std::uint32_t tri[2][3];
-        const int n = triangulate_face(face, mesh.cell_vertices(c), tri);
-        for (int i = 0; i < n; ++i) triangles_.insert(triangles_.end(), tri[i], tri[i] + 3);
-    };
+    codes_.reserve(estimate / 2 + 64);
     for (std::size_t b = 0; b < mesh.blocks.size(); ++b) {
         const Block& blk = mesh.blocks[b];
         const std::size_t c_end = std::min<std::size_t>(blk.first_cell + blk.cell_count, mesh.cell_count());
-        TriangleRange range;
-        range.begin = static_cast<std::uint32_t>(triangles_.size() / 3);
-        // Grid surfaces first: faces with no neighbour in this block.
-        for (int pass = 0; pass < 2; ++pass) {
-            for (std::size_t c = blk.first_cell; c < c_end; ++c) {
-                const int faces = cell_face_count(mesh.cell_types[c]);
-                for (int f = 0; f < faces; ++f) {
-                    const std::uint32_t slot = topo.first_face[c] + static_cast<std::uint32_t>(f);
-                    const std::uint32_t nb = topo.neighbour[slot];
-                    const bool surface = nb == FaceTopology::kBoundary || block_of[topo.slot_cell[nb]] != b;
-                    if (pass == 0 && surface) emit(c, f);
-                    if (pass == 1 && !surface && slot < nb) emit(c, f); // shared face: once
-                }
+        for (std::size_t c = blk.first_cell; c < c_end; ++c) {
+            const CellFace* faces = cell_faces(mesh.cell_types[c]);
+            for (int f = 0; f < cell_face_count(mesh.cell_types[c]); ++f) {
+                const std::uint32_t slot = topo.first_face[c] + static_cast<std::uint32_t>(f);
+                const std::uint32_t nb = topo.neighbour[slot];
+                // A grid surface: no neighbour in this block. A face shared inside the block
+                // is emitted once, by its lower slot.
+                const bool surface = nb == FaceTopology::kBoundary || block_of[topo.slot_cell[nb]] != b;
+                if (!surface && slot > nb) continue;
+                const int halves = faces[f].count == 4 ? 2 : 1;
+                for (int h = 0; h < halves; ++h) codes_.push_back(mesh_code(c, f, h, surface));
+                if (surface) surface_triangles_ += static_cast<std::size_t>(halves);
             }
-            if (pass == 0) range.surface_end = static_cast<std::uint32_t>(triangles_.size() / 3);
         }
-        range.end = static_cast<std::uint32_t>(triangles_.size() / 3);
-        surface_triangles_ += range.surface_end - range.begin;
-        ranges_.push_back(range);
+        blocks_.push_back(CellRange{blk.first_cell, static_cast<std::uint32_t>(c_end)});
     }
-    triangles_.shrink_to_fit();
+    codes_.shrink_to_fit();
 }
 
 std::size_t ScanlineRenderer::memory_bytes() const {
-    return triangles_.capacity() * sizeof(std::uint32_t) + ranges_.capacity() * sizeof(TriangleRange);
+    return codes_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(CellRange);
 }
 
 Image ScanlineRenderer::render(const Camera& camera, int width, int height, const ScalarField& field,
@@ -764,7 +818,7 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     // that a worker that skipped lines reads exactly the triangles still active (see
     // Worker::update_active) and one-line triangles (a third of a large mesh's) never enter
     // an active list.
-    const std::size_t base_triangles = triangles_.size() / 3;
+    const std::size_t base_triangles = codes_.size();
     const std::size_t H = static_cast<std::size_t>(height);
     const std::size_t slots = threads + 1; // per thread, then the per-frame extra triangles
     auto count_index = [&](int span, std::size_t slot, std::size_t row) {
@@ -785,7 +839,8 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         std::uint32_t* count = fb.counts.data();
         std::uint64_t word = 0;
         for (std::size_t i = lo; i < hi; ++i) {
-            const std::uint32_t* tri = triangles_.data() + 3 * i;
+            std::uint32_t tri[3];
+            mesh_triangle(mesh_, codes_[i], tri);
             const ScreenPoint& a = geo.points[tri[0]];
             const ScreenPoint& b = geo.points[tri[1]];
             const ScreenPoint& c = geo.points[tri[2]];
@@ -814,16 +869,21 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     std::size_t near_clipped = 0;
     for (unsigned t = 0; t < threads; ++t) {
         for (std::uint32_t i : straddling[t]) {
-            const std::size_t r = static_cast<std::size_t>(
-                std::upper_bound(ranges_.begin(), ranges_.end(), i,
-                                 [](std::uint32_t v, const TriangleRange& rg) { return v < rg.begin; }) -
-                ranges_.begin() - 1);
-            geo.add_clipped_triangle(triangles_.data() + 3 * static_cast<std::size_t>(i), static_cast<std::uint32_t>(r),
-                                     i < ranges_[r].surface_end);
+            const std::uint32_t code = codes_[i];
+            const std::uint32_t cell = code_index(code);
+            std::size_t b = 0;
+            while (cell >= blocks_[b].end) ++b;
+            std::uint32_t tri[3];
+            mesh_triangle(mesh_, code, tri);
+            geo.add_clipped_triangle(tri, static_cast<std::uint32_t>(b), code_toggles(code));
             ++near_clipped;
         }
     }
     const std::size_t extra_count = geo.extra_triangles.size();
+    if (extra_count >= kMaxCells) {
+        throw Error("scan-line renderer: " + std::to_string(extra_count) +
+                    " near-plane and clip-box triangles in one frame; at most 2^27 are supported");
+    }
     std::vector<Rows> extra_rows(extra_count);
     for (std::size_t i = 0; i < extra_count; ++i) {
         const ExtraTriangle& e = geo.extra_triangles[i];
@@ -855,6 +915,27 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         fb.class_begin[b * kSpanClasses] = total; // end of the bucket
     }
     fb.bucket_start[H] = total;
+    // The most triangles an active list can hold: on line y, those of buckets b ≤ y that
+    // cover at least y − b + 1 lines and more than one (class 15 counted as lasting to the
+    // end). Reserving it exactly keeps the lists from growing by doubling.
+    std::size_t max_active = 0;
+    {
+        auto class_count = [&](std::size_t b, int span) {
+            const std::uint32_t* c = fb.class_begin.data() + b * kSpanClasses;
+            return static_cast<std::size_t>(c[span - 1] - c[span]);
+        };
+        std::size_t long_so_far = 0;
+        for (std::size_t y = 0; y < H; ++y) {
+            long_so_far += class_count(y, kSpanClasses - 1);
+            std::size_t n = long_so_far;
+            for (std::size_t b = y >= kSpanClasses - 2 ? y - (kSpanClasses - 2) : 0; b <= y; ++b) {
+                for (int span = std::max<int>(static_cast<int>(y - b) + 1, 2); span < kSpanClasses - 1; ++span) {
+                    n += class_count(b, span);
+                }
+            }
+            max_active = std::max(max_active, n);
+        }
+    }
     // Pass 2: the same triangles, placed with the offsets.
     fb.y_buckets.resize(total);
     run_threads(threads, [&](unsigned t) {
@@ -865,14 +946,14 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         for (std::size_t i = lo; i < hi; ++i) {
             if (clip_info[i] == kDropped) continue;
             const int span = static_cast<int>((fb.span_class[i / 16] >> (4 * (i % 16))) & 15);
-            y_buckets[offsets[count_index(span, t, clip_info[i])]++] = static_cast<std::uint32_t>(i);
+            y_buckets[offsets[count_index(span, t, clip_info[i])]++] = codes_[i];
         }
     });
     for (std::size_t i = 0; i < extra_count; ++i) {
         if (extra_rows[i].first < 0) continue;
         const auto row = static_cast<std::size_t>(extra_rows[i].first);
         fb.y_buckets[fb.offsets[count_index(span_class(extra_rows[i]), threads, row)]++] =
-            static_cast<std::uint32_t>(base_triangles + i);
+            extra_code(i, geo.extra_triangles[i].toggles);
     }
     const double t_buckets = seconds_since(t_buckets_start);
     const auto t_scan_start = std::chrono::steady_clock::now();
@@ -881,12 +962,15 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     Image image(width, height);
     FrameContext ctx;
     ctx.geo = &geo;
-    ctx.triangles = triangles_.data();
-    ctx.ranges = &ranges_;
-    ctx.base_triangles = base_triangles;
+    ctx.mesh = &mesh_;
+    for (const CellRange& r : blocks_) {
+        ctx.block_begin.push_back(r.begin);
+        ctx.block_end.push_back(r.end);
+    }
     ctx.y_buckets = fb.y_buckets.data();
     ctx.bucket_start = fb.bucket_start.data();
     ctx.class_begin = fb.class_begin.data();
+    ctx.max_active = max_active;
     ctx.rect = rect;
     ctx.width = width;
     ctx.height = height;
