@@ -126,16 +126,20 @@ TEST_CASE("one and two threads give identical frames", "[scanline]") {
             o2.lines_per_task = 1; // workers alternate lines: each re-derives its active list
             fx::ScanlineOptions o3 = o2;
             o3.lines_per_task = 7;
+            fx::ScanlineOptions o4 = o2;
+            o4.lines_per_task = 0; // chunks from the work estimate (the default)
             fx::ScanlineStats s1, s2;
             const fx::Image a = r.render(cam, 64, 48, field, tf, o1, &s1);
             const fx::Image b2 = r.render(cam, 64, 48, field, tf, o2, &s2);
             const fx::Image b3 = r.render(cam, 64, 48, field, tf, o3);
+            const fx::Image b4 = r.render(cam, 64, 48, field, tf, o4);
             CHECK(s2.threads == 2);
             CHECK(s1.triangles_active == s2.triangles_active);
             CHECK(s1.crossings == s2.crossings);
             CHECK(s1.crossings > 1000);
             CHECK(a.pixels == b2.pixels); // bit-identical
             CHECK(a.pixels == b3.pixels);
+            CHECK(a.pixels == b4.pixels);
         }
     }
 }

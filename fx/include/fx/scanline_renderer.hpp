@@ -91,7 +91,9 @@ struct ScanlineOptions {
     OpticalModel model = OpticalModel::EmissionAbsorption;
     unsigned threads = 0;           // 0: std::thread::hardware_concurrency()
     std::optional<Bounds> clip_box; // world-space box; colour only inside it
-    int lines_per_task = 4;         // scan lines a worker takes from the shared counter at once
+    // Consecutive scan lines a worker takes from the shared counter at once. 0: chunks of a
+    // share of the work left (estimated from the Y-bucket counts), large first, shrinking.
+    int lines_per_task = 0;
 };
 
 // Bytes in use during one frame, by the components of §4.3.
@@ -157,6 +159,7 @@ private:
     };
     std::vector<CellRange> blocks_;
     std::size_t surface_triangles_ = 0;
+    Bounds bounds_; // of the mesh, for the depth reference
     // Per-frame buffers kept for the next render() (none while a render() holds them).
     mutable std::mutex spare_mutex_;
     mutable std::unique_ptr<scanline::FrameBuffers> spare_;

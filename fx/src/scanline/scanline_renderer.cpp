@@ -486,14 +486,6 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     std::vector<int>& last = b_.last;
     std::vector<std::uint8_t>& inside = b_.inside;
     std::vector<std::uint32_t>& inside_list = b_.inside_list;
-    cross.resize(n);
-    next_same.resize(n);
-    bool one_grid = true;
-    for (std::size_t k = 0; k < n; ++k) {
-        const Fragment& f = frags[k];
-        cross[k] = Crossing{f.z, f.q / dm.w(f.z), f.grid, f.toggles != 0};
-        one_grid = one_grid && f.grid == frags[0].grid;
-    }
     crossings += n;
     const double inv_cos = dm.inv_cos(x + 0.5, y + 0.5);
     const TransferFunction& tf = *ctx_.tf;
@@ -515,19 +507,33 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
             out = glm::vec4(glm::vec3(sum), 0.0f);
         }
     };
+    auto scalar = [&](const Fragment& f) { return f.q / dm.w(f.z); };
 
-    if (one_grid && !ctx_.clip) {
+    bool one_grid = !ctx_.clip;
+    for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
+    if (one_grid) {
         // The common case, the general walk below reduced to one grid: every segment runs
         // from a crossing of the grid to the next one.
         bool in = false;
+        double s_front = scalar(frags[0]);
         for (std::size_t k = 0; k + 1 < n; ++k) {
-            if (cross[k].toggles) in = !in;
-            if (!in) continue;
-            const double length = dm.eye_delta(cross[k].z, cross[k + 1].z) * inv_cos;
-            if (length > 0.0) integrate(cross[k].s, cross[k + 1].s, length);
+            const double s_back = scalar(frags[k + 1]);
+            if (frags[k].toggles) in = !in;
+            if (in) {
+                const double length = dm.eye_delta(frags[k].z, frags[k + 1].z) * inv_cos;
+                if (length > 0.0) integrate(s_front, s_back, length);
+            }
+            s_front = s_back;
         }
         write();
         return;
+    }
+
+    cross.resize(n);
+    next_same.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const Fragment& f = frags[k];
+        cross[k] = Crossing{f.z, scalar(f), f.grid, f.toggles != 0};
     }
     // Next crossing of the same grid, for segments that other grids' crossings split.
     for (std::size_t k = n; k-- > 0;) {
@@ -656,6 +662,7 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
         blocks_.push_back(CellRange{blk.first_cell, static_cast<std::uint32_t>(c_end)});
     }
     codes_.shrink_to_fit();
+    bounds_ = mesh_bounds(mesh);
 }
 
 std::size_t ScanlineRenderer::memory_bytes() const {
@@ -693,7 +700,7 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
                                                    : tf_in;
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     threads = std::min(threads, 256u);
-    const int lines_per_task = std::max(1, options.lines_per_task);
+    if (options.lines_per_task < 0) throw Error("scan-line renderer: lines_per_task must not be negative");
 
     // The buffers of an earlier frame, or new ones when another render() holds them.
     std::unique_ptr<FrameBuffers> buffers;
@@ -713,8 +720,7 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     dm.ortho = camera.orthographic();
     dm.cx = 0.5 * width;
     dm.cy = 0.5 * height;
-    const Bounds bounds = mesh_bounds(mesh_);
-    const double center_depth = bounds.empty() ? 1.0 : -(geo.view * glm::dvec4(bounds.center(), 1.0)).z;
+    const double center_depth = bounds_.empty() ? 1.0 : -(geo.view * glm::dvec4(bounds_.center(), 1.0)).z;
     if (dm.ortho) {
         dm.f = height / camera.ortho_height;
         dm.zr = center_depth;
@@ -915,10 +921,12 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         fb.class_begin[b * kSpanClasses] = total; // end of the bucket
     }
     fb.bucket_start[H] = total;
-    // The most triangles an active list can hold: on line y, those of buckets b ≤ y that
-    // cover at least y − b + 1 lines and more than one (class 15 counted as lasting to the
-    // end). Reserving it exactly keeps the lists from growing by doubling.
+    // Per line, the triangles it cuts: those of buckets b ≤ y that cover at least y − b + 1
+    // lines (class 15 counted as lasting to the end). The multi-line part is the most an
+    // active list can hold, reserved up front so the lists never grow by doubling; the whole
+    // is the work estimate the scan lines are shared out by.
     std::size_t max_active = 0;
+    std::vector<double> work_before(H + 1, 0.0); // estimated work of lines [0, y)
     {
         auto class_count = [&](std::size_t b, int span) {
             const std::uint32_t* c = fb.class_begin.data() + b * kSpanClasses;
@@ -934,6 +942,8 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
                 }
             }
             max_active = std::max(max_active, n);
+            // + 1: a line with no triangle still costs a little.
+            work_before[y + 1] = work_before[y] + static_cast<double>(n + class_count(y, 1)) + 1.0;
         }
     }
     // Pass 2: the same triangles, placed with the offsets.
@@ -981,18 +991,30 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     ctx.tf = &tf;
     ctx.image = &image;
 
-    std::atomic<int> next_task{0};
-    const int tasks = (height + lines_per_task - 1) / lines_per_task;
+    // Scan lines are handed out in chunks of consecutive lines through one atomic counter (no
+    // lock). A worker starting a chunk re-reads the triangles still active from lines it did
+    // not render, so chunks are large at first and shrink as the work left does: each takes
+    // 1/(2·threads) of the estimated work left, at least 2 lines (or lines_per_task each).
+    const int row_end = rect.row_hi + 1;
+    auto chunk_end = [&](int start) {
+        if (options.lines_per_task > 0) return std::min(start + options.lines_per_task, row_end);
+        const double from = work_before[static_cast<std::size_t>(start)];
+        const double target = from + (work_before[static_cast<std::size_t>(row_end)] - from) / (2.0 * threads);
+        const auto it = std::lower_bound(work_before.begin() + start + 1, work_before.begin() + row_end, target);
+        const int end = static_cast<int>(it - work_before.begin());
+        return std::min(std::max(end, start + 2), row_end);
+    };
+    std::atomic<int> next_line{rect.row_lo};
     if (fb.workers.size() < threads) fb.workers.resize(threads);
     std::vector<std::size_t> crossings(threads, 0), lost(threads, 0);
     run_threads(threads, [&](unsigned t) {
         Worker worker(ctx, fb.workers[t]);
-        for (;;) {
-            const int task = next_task.fetch_add(1, std::memory_order_relaxed);
-            if (task >= tasks) break;
-            const int y0 = std::max(task * lines_per_task, rect.row_lo);
-            const int y1 = std::min((task + 1) * lines_per_task, rect.row_hi + 1);
-            for (int y = y0; y < y1; ++y) worker.process_line(y);
+        int start = next_line.load(std::memory_order_relaxed);
+        while (start < row_end) {
+            const int end = chunk_end(start);
+            if (!next_line.compare_exchange_weak(start, end, std::memory_order_relaxed)) continue;
+            for (int y = start; y < end; ++y) worker.process_line(y);
+            start = next_line.load(std::memory_order_relaxed);
         }
         crossings[t] = worker.crossings;
         lost[t] = worker.lost;
