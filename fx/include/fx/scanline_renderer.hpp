@@ -5,12 +5,15 @@
 //
 // Every cell face becomes triangles (quads split by triangulate_face(), smallest-vertex
 // diagonal); a face shared by two cells of one block is emitted once. A face with no
-// neighbour in its own block is a "grid surface" of that block. Per frame the points go to
-// screen space with depth kept in pixel units (§5), the triangles are sorted into one
-// Y-bucket array (§2.1, built in two passes by all threads, §3 Figure 7), and every scan line
-// keeps an active list, builds X-buckets and walks each pixel's crossings in depth order
-// (§2.2). Between consecutive crossings the colour is integrated exactly with
-// segment_integral.hpp (emission_absorption / emission_integral / segment_maximum).
+// neighbour in its own block is a "grid surface" of that block. A triangle is stored as one
+// 32-bit code (cell, face, half, surface flag); its points come from the mesh. Per frame the
+// points go to screen space with depth kept in pixel units (§5), the triangles are sorted
+// into one Y-bucket array (§2.1, built in two passes by all threads with per-thread counts
+// and offsets, §3 Figure 7; inside a bucket by the number of lines they cover), and every
+// scan line keeps an active list, builds X-buckets — each pixel's crossings, in depth order
+// (§2.2) — and walks them. Between consecutive crossings the colour is integrated exactly
+// with segment_integral.hpp (emission_absorption / emission_integral / segment_maximum).
+// docs/scanline.md describes the algorithm, its rules, memory and speed.
 //
 // Rules that make the picture right rather than roughly right:
 // - Coverage: pixel (x, y) is the point (x + 0.5, y + 0.5). A triangle covers it when
@@ -51,10 +54,15 @@
 //   write alpha = 0 (composite_over() then adds them to the background).
 //
 // Ownership and preconditions: the renderer keeps a reference to the mesh, which must
-// outlive it and must not change (points may not move) while it is used. Points must be
-// finite (the constructor throws fx::Error otherwise); cells may have either winding (the
-// in/out rule is a parity, not an orientation). render() is const and may be called from
-// several threads at once; each call uses its own buffers and `options.threads` workers.
+// outlive it and must not change (points may not move, cells not be added) while it is
+// used. Points must be finite and the mesh may have at most 2^27 cells (the constructor
+// throws fx::Error otherwise); cells may have either winding (the in/out rule is a parity,
+// not an orientation). render() is const and may be called from several threads at once,
+// each call with `options.threads` workers. The renderer keeps one set of per-frame buffers
+// (screen points, Y-buckets, worker lists) between calls so that a frame does not allocate
+// and clear them again; a call that finds them in use by another allocates its own. Frames
+// do not depend on the thread count or on how lines are shared out: equal depths are
+// ordered by triangle code.
 //
 //     fx::ScanlineRenderer renderer(mesh);                       // once per mesh
 //     fx::ScanlineOptions options;                               // EmissionAbsorption, all cores

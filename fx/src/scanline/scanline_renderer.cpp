@@ -1,15 +1,18 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2–§3, §5
 //
-// The scan-line renderer: triangles from cell faces (once per mesh), then per frame
+// The scan-line renderer: triangle codes from cell faces (once per mesh), then per frame
 //   1. points to screen space with pixel-unit depth (§2, §5), threads over points;
 //   2. near-plane clipping, caps and the clip box's virtual polygons (few, serial);
 //   3. the Y-bucket array in two passes with per-thread counts and offsets (§3, Figure 7),
 //      culling triangles off screen, outside the clip box's screen rectangle, or covering no
 //      scan line / pixel column (at pixel centres); bucket_clip_info keeps each triangle's
-//      bucket (or "dropped") between the passes;
-//   4. scan lines handed to workers by an atomic counter (no lock); each worker keeps its own
-//      active Y list, re-deriving it from the buckets when it skips lines, builds the X-buckets
-//      of the line and sweeps the pixels with an active X list kept in depth order (§2.2);
+//      bucket (or "dropped") and span class (lines covered) between the passes; a bucket
+//      lists its triangles by span class, longest first;
+//   4. scan lines handed to workers in chunks through one atomic counter (no lock); each
+//      worker keeps its own active Y list of multi-line triangles, reading exactly the
+//      still-active prefix of the buckets of lines it skipped; one-line triangles are cut
+//      straight from their bucket. Each line's crossings become fragments, counting-sorted
+//      into per-pixel X-buckets, each sorted by depth (§2.2);
 //   5. per pixel, the crossings in depth order toggle inside/outside per grid at surface
 //      triangles and the clip flag at clip polygons (§2.4 Figure 6); colour is integrated
 //      between consecutive crossings with segment_integral.hpp.
@@ -85,8 +88,9 @@ std::size_t bytes(const std::vector<T>& v) {
     return v.capacity() * sizeof(T);
 }
 
-// Per-thread buffers, kept between frames.
-struct WorkerBuffers {
+// Per-thread buffers, kept between frames. Aligned to a cache line: the vectors' sizes
+// change with every fragment, and neighbouring workers' must not share a line.
+struct alignas(64) WorkerBuffers {
     std::vector<ActiveTriangle> active;
     std::vector<PixelFragment> fragments;
     std::vector<Fragment> sorted; // fragments by pixel, each pixel's X-bucket in depth order
