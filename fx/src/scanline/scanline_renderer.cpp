@@ -78,8 +78,18 @@ inline bool depth_order(const Fragment& a, const Fragment& b) { return a.z < b.z
 
 struct Crossing {
     double z, s;
+    double inv_w; // 1 / w(z)
     std::uint32_t grid;
     bool toggles;
+};
+
+constexpr std::size_t kNoCrossing = ~std::size_t(0);
+
+// A grid's segment through the current pixel, from its crossing a to its next crossing b.
+struct GridSegment {
+    std::size_t a = 0, b = kNoCrossing;
+    double z_a = 0.0, s_a = 0.0, ds = 0.0;
+    double scale = 0.0; // w(z_b) / (z_b − z_a), 0 for an empty segment
 };
 
 // Bytes held by a vector (capacity, not size).
@@ -98,18 +108,15 @@ struct alignas(64) WorkerBuffers {
     std::vector<Crossing> cross;
     std::vector<int> next_same;
     std::vector<std::uint8_t> inside;
-    std::vector<int> last, seen;
+    std::vector<int> seen;
+    std::vector<GridSegment> segment; // per grid
     std::vector<std::uint32_t> inside_list;
 
     std::size_t active_bytes() const {
-        return active.capacity() * sizeof(ActiveTriangle) + cross.capacity() * sizeof(Crossing) +
-               next_same.capacity() * sizeof(int) + inside.capacity() + (last.capacity() + seen.capacity()) * sizeof(int) +
-               inside_list.capacity() * sizeof(std::uint32_t);
+        return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
+               bytes(inside_list);
     }
-    std::size_t x_bytes() const {
-        return bytes(fragments) + bytes(sorted) +
-               xcount.capacity() * sizeof(std::uint32_t);
-    }
+    std::size_t x_bytes() const { return bytes(fragments) + bytes(sorted) + bytes(xcount); }
 };
 
 // The per-frame buffers, kept by the renderer between frames so that a frame neither
@@ -126,17 +133,19 @@ struct FrameBuffers {
 
 namespace {
 
+using scanline::ActiveTriangle;
+using scanline::Crossing;
 using scanline::depth_order;
 using scanline::DepthMap;
 using scanline::ExtraTriangle;
-using scanline::FrameGeometry;
-using scanline::ScreenPoint;
-using scanline::ActiveTriangle;
-using scanline::Crossing;
 using scanline::Fragment;
-using scanline::PixelFragment;
 using scanline::FrameBuffers;
+using scanline::FrameGeometry;
+using scanline::GridSegment;
+using scanline::kNoCrossing;
+using scanline::PixelFragment;
 using scanline::ScanTriangle;
+using scanline::ScreenPoint;
 using scanline::SVertex;
 using scanline::Vertex;
 using scanline::WorkerBuffers;
@@ -272,7 +281,7 @@ public:
         b_.active.reserve(ctx.max_active);
         b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
         b_.inside.assign(ctx.grid_count, 0);
-        b_.last.assign(ctx.grid_count, -1);
+        b_.segment.assign(ctx.grid_count, GridSegment{});
         b_.seen.assign(ctx.grid_count, -1);
         cursor_ = 0;
     }
@@ -487,7 +496,6 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     std::vector<Crossing>& cross = b_.cross;
     std::vector<int>& next_same = b_.next_same;
     std::vector<int>& seen = b_.seen;
-    std::vector<int>& last = b_.last;
     std::vector<std::uint8_t>& inside = b_.inside;
     std::vector<std::uint32_t>& inside_list = b_.inside_list;
     crossings += n;
@@ -511,7 +519,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
             out = glm::vec4(glm::vec3(sum), 0.0f);
         }
     };
-    auto scalar = [&](const Fragment& f) { return f.q / dm.w(f.z); };
+    auto scalar = [&](const Fragment& f) { return f.q * (1.0 / dm.w(f.z)); }; // as Crossing::s
 
     bool one_grid = !ctx_.clip;
     for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
@@ -537,7 +545,8 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     next_same.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         const Fragment& f = frags[k];
-        cross[k] = Crossing{f.z, scalar(f), f.grid, f.toggles != 0};
+        const double inv_w = 1.0 / dm.w(f.z);
+        cross[k] = Crossing{f.z, f.q * inv_w, inv_w, f.grid, f.toggles != 0};
     }
     // Next crossing of the same grid, for segments that other grids' crossings split.
     for (std::size_t k = n; k-- > 0;) {
@@ -550,14 +559,15 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     bool clip_in = !ctx_.clip;
     inside_list.clear();
 
-    // Scalar of grid g (segment from its crossing a to b) at crossing k.
-    auto scalar_at = [&](int a, int b, std::size_t k) {
-        if (static_cast<std::size_t>(a) == k) return cross[a].s;
-        if (static_cast<std::size_t>(b) == k) return cross[b].s;
-        const double span = dm.eye_delta(cross[a].z, cross[b].z);
-        if (!(span > 0.0)) return cross[a].s;
-        const double u = dm.eye_delta(cross[a].z, cross[k].z) / span;
-        return cross[a].s + (cross[b].s - cross[a].s) * u;
+    // Each grid's current segment, from its crossing a to its next crossing b. Inside it the
+    // scalar is linear in eye depth: at crossing j, s = s_a + (s_b − s_a)·u with
+    // u = Δz_e(a→j)/Δz_e(a→b) = (z_j − z_a)·w(z_b) / ((z_b − z_a)·w(z_j)) (§5's depth map;
+    // w = 1 for orthographic views), exact at a and b.
+    std::vector<GridSegment>& segment = b_.segment;
+    auto scalar_at = [&](const GridSegment& g, std::size_t j) {
+        if (j == g.a) return g.s_a;
+        if (j == g.b) return cross[j].s;
+        return g.s_a + g.ds * ((cross[j].z - g.z_a) * g.scale * cross[j].inv_w);
     };
 
     for (std::size_t k = 0; k < n; ++k) {
@@ -573,25 +583,36 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
                 inside_list.push_back(c.grid);
             }
         }
-        last[c.grid] = static_cast<int>(k);
+        {
+            GridSegment& g = segment[c.grid];
+            const int b = next_same[k];
+            g.a = k;
+            g.b = b < 0 ? kNoCrossing : static_cast<std::size_t>(b);
+            g.z_a = c.z;
+            g.s_a = c.s;
+            if (b >= 0) {
+                const Crossing& e = cross[static_cast<std::size_t>(b)];
+                g.ds = e.s - c.s;
+                g.scale = e.z > c.z ? 1.0 / ((e.z - c.z) * e.inv_w) : 0.0;
+            }
+        }
         if (k + 1 == n || !clip_in || inside_list.empty()) continue;
         const double length = dm.eye_delta(c.z, cross[k + 1].z) * inv_cos;
         if (!(length > 0.0)) continue;
 
         if (inside_list.size() == 1) {
-            const std::uint32_t g = inside_list[0];
-            const int a = last[g], b = next_same[a];
-            if (b < 0) { ++lost; continue; }
-            integrate(scalar_at(a, b, k), scalar_at(a, b, k + 1), length);
+            const GridSegment& g = segment[inside_list[0]];
+            if (g.b == kNoCrossing) { ++lost; continue; }
+            integrate(scalar_at(g, k), scalar_at(g, k + 1), length);
             continue;
         }
         // Several grids over this span: their media add (see the header).
         double tau = 0.0;
         glm::dvec3 weighted(0.0);
-        for (std::uint32_t g : inside_list) {
-            const int a = last[g], b = next_same[a];
-            if (b < 0) { ++lost; continue; }
-            const double sf = scalar_at(a, b, k), sb = scalar_at(a, b, k + 1);
+        for (std::uint32_t gi : inside_list) {
+            const GridSegment& g = segment[gi];
+            if (g.b == kNoCrossing) { ++lost; continue; }
+            const double sf = scalar_at(g, k), sb = scalar_at(g, k + 1);
             switch (ctx_.model) {
             case OpticalModel::EmissionAbsorption: {
                 const SegmentColor seg = emission_absorption(tf, sf, sb, length);
