@@ -33,6 +33,7 @@
 #include "fx/error.hpp"
 #include "fx/face_topology.hpp"
 #include "fx/segment_integral.hpp"
+#include "scanline/scanline_fragments.hpp"
 #include "scanline/scanline_frame.hpp"
 
 namespace fx {
@@ -59,22 +60,11 @@ struct ActiveTriangle {
     std::int32_t last_row;
 };
 
-// One crossing of a triangle with a pixel ray: Table 2's depth and data value (q, the scalar
-// times w), with what the pixel walk needs to know about the triangle.
-struct Fragment {
-    double z, q;
-    std::uint32_t id;
-    std::uint32_t grid : 31;
-    std::uint32_t toggles : 1;
-};
-
 // A fragment before the per-pixel counting sort.
 struct PixelFragment {
     Fragment f;
     std::int32_t x; // pixel column
 };
-
-inline bool depth_order(const Fragment& a, const Fragment& b) { return a.z < b.z || (a.z == b.z && a.id < b.id); }
 
 struct Crossing {
     double z, s;
@@ -104,6 +94,8 @@ struct alignas(64) WorkerBuffers {
     std::vector<ActiveTriangle> active;
     std::vector<PixelFragment> fragments;
     std::vector<Fragment> sorted; // fragments by pixel, each pixel's X-bucket in depth order
+    std::vector<Fragment> scratch; // merge buffer of sort_by_depth()
+    std::vector<std::uint32_t> runs;
     std::vector<std::uint32_t> xcount; // X-bucket starts per pixel (counting sort)
     std::vector<Crossing> cross;
     std::vector<int> next_same;
@@ -116,7 +108,9 @@ struct alignas(64) WorkerBuffers {
         return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
                bytes(inside_list);
     }
-    std::size_t x_bytes() const { return bytes(fragments) + bytes(sorted) + bytes(xcount); }
+    std::size_t x_bytes() const {
+        return bytes(fragments) + bytes(sorted) + bytes(scratch) + bytes(runs) + bytes(xcount);
+    }
 };
 
 // The per-frame buffers, kept by the renderer between frames so that a frame neither
@@ -135,7 +129,6 @@ namespace {
 
 using scanline::ActiveTriangle;
 using scanline::Crossing;
-using scanline::depth_order;
 using scanline::DepthMap;
 using scanline::ExtraTriangle;
 using scanline::Fragment;
@@ -473,19 +466,7 @@ void Worker::process_line(int y) {
         if (stop == begin) continue;
         Fragment* k = sorted.data() + begin;
         const std::size_t n = stop - begin;
-        if (n > 28) { // insertion sort is faster below about 28 fragments
-            std::sort(k, k + n, [](const Fragment& a, const Fragment& b) { return depth_order(a, b); });
-        } else {
-            for (std::size_t i = 1; i < n; ++i) {
-                const Fragment f = k[i];
-                std::size_t j = i;
-                while (j > 0 && depth_order(f, k[j - 1])) {
-                    k[j] = k[j - 1];
-                    --j;
-                }
-                k[j] = f;
-            }
-        }
+        scanline::sort_by_depth(k, n, b_.scratch, b_.runs);
         shade_pixel(x, y, k, n);
         begin = stop;
     }
