@@ -228,14 +228,27 @@ constexpr bool is_extra(std::uint32_t code) { return ((code >> 2) & 7) == kExtra
 constexpr std::uint32_t code_index(std::uint32_t code) { return code >> 5; } // cell or extra index
 constexpr bool code_toggles(std::uint32_t code) { return (code & 1) != 0; }
 
-// The point ids of mesh triangle `code`, in triangulate_face()'s order.
-inline void mesh_triangle(const CellMesh& mesh, std::uint32_t code, std::uint32_t out[3]) {
-    const std::uint32_t cell = code_index(code);
-    std::uint32_t tri[2][3];
-    triangulate_face(cell_faces(mesh.cell_types[cell])[(code >> 2) & 7], mesh.cell_vertices(cell), tri);
-    const std::uint32_t* t = tri[(code >> 1) & 1];
-    out[0] = t[0], out[1] = t[1], out[2] = t[2];
-}
+// The point ids of mesh triangles, in triangulate_face()'s order. The two halves of a quad
+// have neighbouring codes and usually come one after the other, so the face's
+// triangulation is kept for the next call.
+class TriangleDecoder {
+public:
+    explicit TriangleDecoder(const CellMesh& mesh) : mesh_(mesh) {}
+    const std::uint32_t* operator()(std::uint32_t code) {
+        const std::uint32_t face = code >> 2; // cell and face
+        if (face != face_) {
+            const std::uint32_t cell = code_index(code);
+            triangulate_face(cell_faces(mesh_.cell_types[cell])[face & 7], mesh_.cell_vertices(cell), tri_);
+            face_ = face;
+        }
+        return tri_[(code >> 1) & 1];
+    }
+
+private:
+    const CellMesh& mesh_;
+    std::uint32_t face_ = ~std::uint32_t(0); // no cell has this index (at most 2^27 cells)
+    std::uint32_t tri_[2][3];
+};
 
 // Everything one frame needs, shared read-only by the workers.
 struct FrameContext {
@@ -269,7 +282,7 @@ inline void prefetch(const void* p) {
 
 class Worker {
 public:
-    Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers) {
+    Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers), decode_(*ctx.mesh) {
         b_.active.clear();
         b_.active.reserve(ctx.max_active);
         b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
@@ -303,6 +316,7 @@ private:
     WorkerBuffers& b_;
     int current_line_ = -1;
     std::size_t cursor_ = 0; // block of the last fetched mesh triangle
+    TriangleDecoder decode_;
 };
 
 SVertex Worker::vertex(const ScreenPoint& p) const {
@@ -338,8 +352,7 @@ void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
     t.id = code;
     t.toggles = code_toggles(code);
     if (!is_extra(code)) {
-        std::uint32_t ids[3];
-        mesh_triangle(*ctx_.mesh, code, ids);
+        const std::uint32_t* ids = decode_(code);
         for (int i = 0; i < 3; ++i) t.v[i] = geo.points[ids[i]];
         const std::uint32_t cell = code_index(code);
         if (cell < ctx_.block_begin[cursor_]) cursor_ = 0;
@@ -850,9 +863,9 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         std::uint16_t* clip_info = fb.clip_info.data();
         std::uint32_t* count = fb.counts.data();
         std::uint64_t word = 0;
+        TriangleDecoder decode(mesh_);
         for (std::size_t i = lo; i < hi; ++i) {
-            std::uint32_t tri[3];
-            mesh_triangle(mesh_, codes_[i], tri);
+            const std::uint32_t* tri = decode(codes_[i]);
             const ScreenPoint& a = geo.points[tri[0]];
             const ScreenPoint& b = geo.points[tri[1]];
             const ScreenPoint& c = geo.points[tri[2]];
@@ -885,9 +898,8 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
             const std::uint32_t cell = code_index(code);
             std::size_t b = 0;
             while (cell >= blocks_[b].end) ++b;
-            std::uint32_t tri[3];
-            mesh_triangle(mesh_, code, tri);
-            geo.add_clipped_triangle(tri, static_cast<std::uint32_t>(b), code_toggles(code));
+            TriangleDecoder decode(mesh_);
+            geo.add_clipped_triangle(decode(code), static_cast<std::uint32_t>(b), code_toggles(code));
             ++near_clipped;
         }
     }
