@@ -408,24 +408,25 @@ void Worker::update_active(int y) {
 }
 
 void Worker::add_fragments(const ScanTriangle& t, double yc) {
-    const SVertex v0 = vertex(t.v[0]);
-    const SVertex v1 = vertex(t.v[1]);
-    const SVertex v2 = vertex(t.v[2]);
+    const ScreenPoint& v0 = t.v[0];
+    const ScreenPoint& v1 = t.v[1];
+    const ScreenPoint& v2 = t.v[2];
     // Figure 3: the long edge v0→v2 and the short edge below or above the middle vertex.
-    const double inv_a = 1.0 / (v2.y - v0.y);
+    const double inv_a = 1.0 / (double(v2.y) - double(v0.y));
     const double xa = interpolate(v0.x, v2.x, v0.y, v2.y, inv_a, yc);
-    const SVertex& p = yc < v1.y ? v0 : v1;
-    const SVertex& q = yc < v1.y ? v1 : v2;
-    const double inv_b = 1.0 / (q.y - p.y);
+    const ScreenPoint& p = yc < v1.y ? v0 : v1;
+    const ScreenPoint& q = yc < v1.y ? v1 : v2;
+    const double inv_b = 1.0 / (double(q.y) - double(p.y));
     const double xb = interpolate(p.x, q.x, p.y, q.y, inv_b, yc);
     const double xl = std::min(xa, xb), xr = std::max(xa, xb);
     const int first = std::max(first_center_at_or_after(xl), ctx_.rect.col_lo);
     const int last = std::min(last_center_before(xr), ctx_.rect.col_hi);
-    if (first > last) return; // no pixel centre in [x_l, x_r)
-    const double za = interpolate(v0.z, v2.z, v0.y, v2.y, inv_a, yc);
-    const double qa = interpolate(v0.q, v2.q, v0.y, v2.y, inv_a, yc);
-    const double zb = interpolate(p.z, q.z, p.y, q.y, inv_b, yc);
-    const double qb = interpolate(p.q, q.q, p.y, q.y, inv_b, yc);
+    if (first > last) return; // no pixel centre in [x_l, x_r): most triangle lines end here
+    const SVertex s0 = vertex(v0), s2 = vertex(v2), sp = vertex(p), sq = vertex(q);
+    const double za = interpolate(s0.z, s2.z, s0.y, s2.y, inv_a, yc);
+    const double qa = interpolate(s0.q, s2.q, s0.y, s2.y, inv_a, yc);
+    const double zb = interpolate(sp.z, sq.z, sp.y, sq.y, inv_b, yc);
+    const double qb = interpolate(sp.q, sq.q, sp.y, sq.y, inv_b, yc);
     const bool a_left = xa <= xb;
     const double zl = a_left ? za : zb, zr = a_left ? zb : za;
     const double ql = a_left ? qa : qb, qr = a_left ? qb : qa;
