@@ -206,6 +206,35 @@ Rows rows_of(const double x[3], const double y[3], const Rect& r) {
     return {r0, r1};
 }
 
+// Sorts a triangle's three screen points bottom to top; every use of a triangle's edges
+// relies on this one order.
+inline void sort_bottom_to_top(ScreenPoint v[3]) {
+    if (v[1].y < v[0].y) std::swap(v[0], v[1]);
+    if (v[2].y < v[1].y) std::swap(v[1], v[2]);
+    if (v[1].y < v[0].y) std::swap(v[0], v[1]);
+}
+
+// Where scan line yc cuts triangle v (sorted bottom to top): Figure 3's two edges, the long
+// one v0→v2 and the short one below or above the middle vertex, their x by §2.3, and the
+// pixel columns [first, last] whose centres lie in [x_left, x_right) (none if first > last).
+struct LineSpan {
+    double xa, xb;       // x on the long and on the short edge
+    double inv_a, inv_b; // 1/(Δy) of those edges
+    int first, last;
+};
+inline LineSpan line_span(const ScreenPoint v[3], double yc, const Rect& r) {
+    LineSpan s;
+    s.inv_a = 1.0 / (double(v[2].y) - double(v[0].y));
+    s.xa = interpolate(v[0].x, v[2].x, v[0].y, v[2].y, s.inv_a, yc);
+    const ScreenPoint& p = yc < v[1].y ? v[0] : v[1];
+    const ScreenPoint& q = yc < v[1].y ? v[1] : v[2];
+    s.inv_b = 1.0 / (double(q.y) - double(p.y));
+    s.xb = interpolate(p.x, q.x, p.y, q.y, s.inv_b, yc);
+    s.first = std::max(first_center_at_or_after(std::min(s.xa, s.xb)), r.col_lo);
+    s.last = std::min(last_center_before(std::max(s.xa, s.xb)), r.col_hi);
+    return s;
+}
+
 // Y-bucket parts: span class c holds triangles covering exactly c scan lines (1 ≤ c < 15),
 // class 15 those covering 15 or more.
 constexpr int kSpanClasses = 16;
@@ -363,10 +392,7 @@ void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
         for (int i = 0; i < 3; ++i) t.v[i] = geo.extra_vertices[e.v[i]];
         t.grid = e.grid;
     }
-    // Sort the three vertices bottom to top.
-    if (t.v[1].y < t.v[0].y) std::swap(t.v[0], t.v[1]);
-    if (t.v[2].y < t.v[1].y) std::swap(t.v[1], t.v[2]);
-    if (t.v[1].y < t.v[0].y) std::swap(t.v[0], t.v[1]);
+    sort_bottom_to_top(t.v);
 }
 
 void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
@@ -408,20 +434,15 @@ void Worker::update_active(int y) {
 }
 
 void Worker::add_fragments(const ScanTriangle& t, double yc) {
-    const ScreenPoint& v0 = t.v[0];
-    const ScreenPoint& v1 = t.v[1];
-    const ScreenPoint& v2 = t.v[2];
-    // Figure 3: the long edge v0→v2 and the short edge below or above the middle vertex.
-    const double inv_a = 1.0 / (double(v2.y) - double(v0.y));
-    const double xa = interpolate(v0.x, v2.x, v0.y, v2.y, inv_a, yc);
-    const ScreenPoint& p = yc < v1.y ? v0 : v1;
-    const ScreenPoint& q = yc < v1.y ? v1 : v2;
-    const double inv_b = 1.0 / (double(q.y) - double(p.y));
-    const double xb = interpolate(p.x, q.x, p.y, q.y, inv_b, yc);
-    const double xl = std::min(xa, xb), xr = std::max(xa, xb);
-    const int first = std::max(first_center_at_or_after(xl), ctx_.rect.col_lo);
-    const int last = std::min(last_center_before(xr), ctx_.rect.col_hi);
+    const LineSpan span = line_span(t.v, yc, ctx_.rect);
+    const int first = span.first, last = span.last;
     if (first > last) return; // no pixel centre in [x_l, x_r): most triangle lines end here
+    const ScreenPoint& v0 = t.v[0];
+    const ScreenPoint& v2 = t.v[2];
+    const ScreenPoint& p = yc < t.v[1].y ? t.v[0] : t.v[1];
+    const ScreenPoint& q = yc < t.v[1].y ? t.v[1] : t.v[2];
+    const double xa = span.xa, xb = span.xb, inv_a = span.inv_a, inv_b = span.inv_b;
+    const double xl = std::min(xa, xb), xr = std::max(xa, xb);
     const SVertex s0 = vertex(v0), s2 = vertex(v2), sp = vertex(p), sq = vertex(q);
     const double za = interpolate(s0.z, s2.z, s0.y, s2.y, inv_a, yc);
     const double qa = interpolate(s0.q, s2.q, s0.y, s2.y, inv_a, yc);
