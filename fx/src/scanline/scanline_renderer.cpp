@@ -409,7 +409,7 @@ void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
 
 void Worker::update_active(int y) {
     // Remove finished triangles by moving the last one into their place: the order of the
-    // active list does not matter, pixels order their crossings by (depth, id).
+    // active list does not matter, pixels order their crossings by (depth, code).
     std::vector<ActiveTriangle>& active = b_.active;
     for (std::size_t i = 0; i < active.size();) {
         if (active[i].last_row < y) {
