@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <random>
+#include <utility>
 
 #include "fx/scanline_renderer.hpp"
 #include "scanline/scanline_fragments.hpp"
@@ -146,6 +147,20 @@ TEST_CASE("one and two threads give identical frames", "[scanline]") {
             CHECK(a.pixels == b4.pixels);
         }
     }
+}
+
+TEST_CASE("a copied or moved renderer draws the same frame", "[scanline]") {
+    const fx::CellMesh mesh = fx::make_nine_grid_mesh(0.08);
+    const fx::ScanlineRenderer original(mesh);
+    const fx::Bounds b = fx::mesh_bounds(mesh);
+    const fx::Camera cam = fx::Camera::framing(b.lo, b.hi);
+    const fx::TransferFunction tf = fx::TransferFunction::constant({0.6, 0.8, 1.0}, 1.5);
+    const fx::Image a = original.render(cam, 40, 30, *mesh.find_scalar("density"), tf); // keeps buffers
+    fx::ScanlineRenderer copy(original);
+    const fx::ScanlineRenderer moved(std::move(copy));
+    CHECK(moved.triangle_count() == original.triangle_count());
+    CHECK(moved.render(cam, 40, 30, *mesh.find_scalar("density"), tf).pixels == a.pixels);
+    CHECK(original.render(cam, 40, 30, *mesh.find_scalar("density"), tf).pixels == a.pixels); // reused buffers
 }
 
 TEST_CASE("statistics: memory by component, triangle counts, stage times", "[scanline]") {

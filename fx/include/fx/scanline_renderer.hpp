@@ -142,8 +142,10 @@ public:
     // fx::Error for non-finite points, indices out of range or more than 2^27 cells.
     explicit ScanlineRenderer(const CellMesh& mesh);
     ~ScanlineRenderer();
-    ScanlineRenderer(const ScanlineRenderer&) = delete;
-    ScanlineRenderer& operator=(const ScanlineRenderer&) = delete;
+    // Copies share the mesh and copy the triangle table, not the per-frame buffers.
+    ScanlineRenderer(const ScanlineRenderer& other);
+    ScanlineRenderer(ScanlineRenderer&& other) noexcept;
+    ScanlineRenderer& operator=(const ScanlineRenderer&) = delete; // the mesh reference is fixed
 
     // Renders one frame. `field` has one value per mesh point (finite); a normalized transfer
     // function is first mapped onto the field's range. width, height in [1, 65534].

@@ -1101,4 +1101,15 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
 
 ScanlineRenderer::~ScanlineRenderer() = default;
 
+ScanlineRenderer::ScanlineRenderer(const ScanlineRenderer& other)
+    : mesh_(other.mesh_), codes_(other.codes_), blocks_(other.blocks_),
+      surface_triangles_(other.surface_triangles_), bounds_(other.bounds_) {}
+
+ScanlineRenderer::ScanlineRenderer(ScanlineRenderer&& other) noexcept
+    : mesh_(other.mesh_), codes_(std::move(other.codes_)), blocks_(std::move(other.blocks_)),
+      surface_triangles_(other.surface_triangles_), bounds_(other.bounds_) {
+    std::lock_guard<std::mutex> lock(other.spare_mutex_);
+    spare_ = std::move(other.spare_);
+}
+
 } // namespace fx
