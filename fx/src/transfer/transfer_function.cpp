@@ -23,6 +23,19 @@ std::string number(double v) {
     return o.str();
 }
 
+// A JSON value for an error message, at most ~60 characters. Arrays are shown only when flat
+// and short: dump() recurses once per nesting level, and a file of a million '[' would
+// overflow the stack while the message is being built.
+std::string brief(const nlohmann::json& v) {
+    if (v.is_object()) return "an object";
+    if (v.is_array()) {
+        const bool flat = std::none_of(v.begin(), v.end(), [](const nlohmann::json& e) { return e.is_structured(); });
+        if (!flat || v.size() > 8) return "an array of " + std::to_string(v.size()) + (v.size() == 1 ? " entry" : " entries");
+    }
+    const std::string s = v.dump();
+    return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+
 // Every rule of the format, in one place; `where` prefixes each message ("fire.json: ").
 void validate(const std::vector<TransferPoint>& points, bool normalized, const std::string& where) {
     if (points.empty()) throw Error(where + "points: at least 1 point is needed");
@@ -102,10 +115,10 @@ TransferFunction TransferFunction::parse_json(std::string_view text, const std::
     for (std::size_t i = 0; i < pts->size(); ++i) {
         const nlohmann::json& e = (*pts)[i];
         const std::string at = where + "points[" + std::to_string(i) + "]: ";
-        if (!e.is_array() || e.size() != 5) throw Error(at + "expected 5 numbers [s, r, g, b, sigma], got " + e.dump());
+        if (!e.is_array() || e.size() != 5) throw Error(at + "expected 5 numbers [s, r, g, b, sigma], got " + brief(e));
         double v[5];
         for (std::size_t k = 0; k < 5; ++k) {
-            if (!e[k].is_number()) throw Error(at + names[k] + " is not a number (" + e[k].dump() + ")");
+            if (!e[k].is_number()) throw Error(at + names[k] + " is not a number (" + brief(e[k]) + ")");
             v[k] = e[k].get<double>(); // 1e999 parses to inf; validate() rejects it
         }
         points.push_back({v[0], glm::dvec3(v[1], v[2], v[3]), v[4]});
