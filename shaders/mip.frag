@@ -5,10 +5,14 @@
 // c·σ is monotonic between the two scalars (see docs/render_paths.md for the exception).
 #include "project.glsl"
 
+layout(location = 0) in vec3 v_position;
 layout(location = 1) in float v_scalar;
+layout(location = 6) flat in vec2 v_scalar_bounds;
 
 layout(location = 0) out vec4 o_color;
 
 void main() {
-    o_color = vec4(emission_at(v_scalar).rgb, 0.0);
+    // Scene depth: faces behind the scene's surface are hidden (caps lie on the near plane).
+    if (dot(v_position - u_eye, u_forward) > scene_view_depth(gl_FragCoord.xy)) discard;
+    o_color = vec4(emission_at(clamp(v_scalar, v_scalar_bounds.x, v_scalar_bounds.y)).rgb, 0.0);
 }

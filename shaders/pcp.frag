@@ -5,7 +5,8 @@
 //   pass 2  front faces → alpha −= (d − d_min)/Δd          (reverse subtract, alpha only)
 //           caps        → alpha −= (d_near − d_min)/Δd     (same, drawn after the front faces)
 //   pass 3  all faces and caps → rgb += κ(S)·Δd/2 · dst alpha (glBlendFunc(GL_DST_ALPHA, GL_ONE))
-// into an 8-bit RGBA target: the quantisation is the point of this path.
+// into an 8-bit RGBA target: the quantisation is the point of this path. With a scene depth,
+// passes 1 and 2 clamp each face's d to the scene's, so the α difference ends at the surface.
 // One addition to the paper: α·Δd is a difference of view depths; under perspective the ray
 // through this pixel covers it over a length α·Δd / cos θ, so pass 3 divides by cos θ of the
 // pixel's ray (1 for orthographic cameras). Without it the corners of a 40° view come out
@@ -15,6 +16,7 @@
 layout(location = 0) in vec3 v_position;
 layout(location = 3) in float v_alpha;
 layout(location = 4) in vec3 v_color;
+layout(location = 5) flat in vec2 v_range; // d_min, Δd
 
 layout(location = 8) uniform int u_pass;
 
@@ -24,7 +26,13 @@ void main() {
     if (u_pass == 3) {
         float cos_theta = u_orthographic != 0 ? 1.0 : max(dot(normalize(v_position - u_eye), u_forward), 1e-3);
         o_color = vec4(v_color / cos_theta, 0.0);
-    } else {
+    } else if (u_scene_depth_mode == 0 || v_range.y <= 0.0) {
         o_color = vec4(0.0, 0.0, 0.0, v_alpha);
+    } else {
+        // Scene depth: d clamped to the surface's, so back minus front is the length in front of
+        // it (caps, at d = 0, are never behind a surface beyond the near plane).
+        float d = v_alpha * v_range.y + v_range.x;
+        float d_scene = scene_view_depth(gl_FragCoord.xy) - u_near;
+        o_color = vec4(0.0, 0.0, 0.0, clamp((min(d, d_scene) - v_range.x) / v_range.y, 0.0, 1.0));
     }
 }

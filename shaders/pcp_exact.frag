@@ -6,13 +6,15 @@
 // clamped to the near plane — so the near-plane cap comes for free. The scalar at the entry
 // is interpolated barycentrically on the entry triangle (face-linear, as the scan-line
 // reference does) and is linear along the ray; the segment's emission is integrated exactly
-// through the cumulative table (segment_integral in project.glsl).
+// through the cumulative table (segment_integral in project.glsl). With a scene depth the
+// segment ends at the scene's surface (its exit scalar interpolated to the cut).
 // Output: rgb = emission ∫c·σ, a = optical depth ∫σ (used by the fog resolve; ignored otherwise).
 #include "project.glsl"
 
 layout(location = 0) in vec3 v_position;
 layout(location = 1) in float v_scalar;
 layout(location = 2) flat in uint v_cell;
+layout(location = 6) flat in vec2 v_scalar_bounds;
 
 layout(location = 0) out vec4 o_color;
 
@@ -31,7 +33,7 @@ vec3 entry_barycentric(uint t, vec3 q) {
 void main() {
     Ray ray = pixel_ray(v_position);
     float t_exit = dot(v_position - ray.origin, ray.dir);
-    float s_exit = v_scalar;
+    float s_exit = clamp(v_scalar, v_scalar_bounds.x, v_scalar_bounds.y); // see project.vert
 
     // Entry: for a convex cell, the last front-facing plane the ray crosses. Ties (the two
     // triangles of a planar quad) and slightly non-convex cells (curvilinear grids, whose quads
@@ -96,6 +98,14 @@ void main() {
         float f = span > 0.0 ? clamp((t_near - t_front) / span, 0.0, 1.0) : 1.0;
         s_in = mix(s_front, s_exit, f);
         t_in = min(t_near, t_exit);
+    }
+    // Scene depth: the segment ends at the opaque surface (fog stops at the ground).
+    float t_scene = scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy));
+    if (t_scene < t_exit) {
+        float span = t_exit - t_in;
+        float f = span > 0.0 ? clamp((t_scene - t_in) / span, 0.0, 1.0) : 0.0;
+        s_exit = mix(s_in, s_exit, f);
+        t_exit = max(t_scene, t_in);
     }
     float l = max(t_exit - t_in, 0.0);
     o_color = segment_integral(s_in, s_exit, l);

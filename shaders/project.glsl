@@ -31,6 +31,12 @@ layout(location = 5) uniform vec4 u_table;           // s_lo, s_hi, sample count
 
 layout(binding = 0) uniform sampler2D u_tables;
 
+// Scene depth (CellRenderOptions::scene_depth): the host's window-space depth on unit 3.
+layout(location = 20) uniform int u_scene_depth_mode;  // 0 none, 1 perspective, 2 orthographic
+layout(location = 21) uniform vec2 u_scene_depth_range; // the projection's near and far distances
+layout(location = 22) uniform ivec2 u_scene_origin;     // viewport origin in the depth texture
+layout(binding = 3) uniform sampler2D u_scene_depth;
+
 // d: distance beyond the near plane along the view direction (Roettger & Ertl's d).
 float near_plane_distance(vec3 p) { return dot(p - u_eye, u_forward) - u_near; }
 
@@ -104,4 +110,21 @@ vec4 segment_integral(float s_front, float s_back, float l) {
         return (cell_slope(lower) * w + cell_slope(lower + 1) * (1.0 - w)) * l;
     }
     return (cumulative_at(s_back) - cumulative_at(s_front)) * (l / (s_back - s_front));
+}
+
+// ---- scene depth ----------------------------------------------------------------------------
+// View depth (distance from the eye plane along u_forward) of the scene surface behind the
+// pixel at frag_coord (a fragment shader's gl_FragCoord.xy); 3.4e38 without a scene depth. Perspective: window depth w gives
+// z_e = n·f / (f·(1 − w) + w·n) (GL's default depth range; 1 − w is exact near w = 1, so far
+// surfaces keep what precision the depth buffer has).
+float scene_view_depth(vec2 frag_coord) {
+    if (u_scene_depth_mode == 0) return 3.4e38;
+    float w = texelFetch(u_scene_depth, ivec2(frag_coord) + u_scene_origin, 0).r;
+    float n = u_scene_depth_range.x, f = u_scene_depth_range.y;
+    if (u_scene_depth_mode == 2) return n + w * (f - n);
+    return n * f / (f * (1.0 - w) + w * n);
+}
+// The same as a parameter along a ray from pixel_ray().
+float scene_ray_t(Ray r, float view_depth) {
+    return u_orthographic != 0 ? view_depth : view_depth / max(dot(r.dir, u_forward), 1e-6);
 }

@@ -20,6 +20,11 @@ layout(location = 1) out float v_scalar;
 layout(location = 2) flat out uint v_cell;
 layout(location = 3) out float v_alpha;   // classic PCP: (d − d_min)/Δd
 layout(location = 4) out vec3 v_color;    // classic PCP: κ(S)·Δd/2
+layout(location = 5) flat out vec2 v_range; // classic PCP: d_min, Δd (scene-depth clamp)
+// Smallest and largest scalar of the triangle's three vertices. An interpolated value lies
+// between them; rasterisers extrapolate at pixel centres barely inside slivers seen edge-on,
+// so the paths clamp v_scalar to this range.
+layout(location = 6) flat out vec2 v_scalar_bounds;
 
 void main() {
     vec3 p;
@@ -27,6 +32,7 @@ void main() {
     uint cell = 0u;
     vec2 range = vec2(0.0); // d_min, Δd
     bool cap = false;
+    vec3 corner_scalars;
     if (u_source == 2) {
         uvec4 a = frame_data[u_cap_base + 2 * gl_VertexID];
         uvec4 b = frame_data[u_cap_base + 2 * gl_VertexID + 1];
@@ -34,6 +40,8 @@ void main() {
         s = uintBitsToFloat(a.w);
         range = uintBitsToFloat(b.xy);
         cap = true;
+        int first = gl_VertexID - gl_VertexID % 3; // cap fans are drawn as separate triangles
+        for (int k = 0; k < 3; ++k) corner_scalars[k] = uintBitsToFloat(frame_data[u_cap_base + 2 * (first + k)].w);
     } else {
         uint t;
         int corner;
@@ -59,13 +67,17 @@ void main() {
         vec4 point = points[tri.v[corner]];
         p = point.xyz;
         s = point.w;
+        corner_scalars = vec3(points[tri.v.x].w, points[tri.v.y].w, points[tri.v.z].w);
     }
+    v_scalar_bounds = vec2(min(corner_scalars.x, min(corner_scalars.y, corner_scalars.z)),
+                           max(corner_scalars.x, max(corner_scalars.y, corner_scalars.z)));
     gl_Position = u_view_projection * vec4(p, 1.0);
     if (cap) gl_Position.z = 0.0;
     v_position = p;
     v_scalar = s;
     v_cell = cell;
     float d = cap ? 0.0 : near_plane_distance(p);
+    v_range = range;
     v_alpha = range.y > 0.0 ? clamp((d - range.x) / range.y, 0.0, 1.0) : 0.0;
     // Classic colour I = κ(S)·Δd/2 (§3); pcp.frag turns view depth into length along the ray.
     v_color = emission_at(s).rgb * (0.5 * range.y);

@@ -17,14 +17,18 @@ int run_bench(const std::vector<std::string>& args) {
                   "             options: --sizes 512,1024, --repeat N (5), --grid N (100: 1M cells), --mesh XYZ --q Q\n"
                   "  sort       visibility sorts (centroid, mpvo, xmpvo, power) on ~1M tetrahedra\n"
                   "             options: --cells N (1000000), --views N (8), --repeat N (5),\n"
-                  "                      --mesh all|grid|jittered|c-shape (all)");
+                  "                      --mesh all|grid|jittered|c-shape (all)\n"
+                  "  terrain    continuous LOD along a flight (1025², 2049²), pixels changed vs full resolution,\n"
+                  "             fog valley fps per path; options: --sizes 1025,2049, --lod-frames N (300),\n"
+                  "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "scanline") return bench_scanline(rest);
     if (args[0] == "pcp") return bench_pcp(rest);
     if (args[0] == "sort") return bench_sort(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp or sort)");
+    if (args[0] == "terrain") return bench_terrain(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort or terrain)");
 }
 
 } // namespace cellfx_cli

@@ -19,6 +19,8 @@ namespace cellfx_cli {
 int bench_scanline(const std::vector<std::string>& args);
 // `cellfx bench pcp`: cells per second of the GPU cell-projection paths (Roettger & Ertl §4).
 int bench_pcp(const std::vector<std::string>& args);
+// `cellfx bench terrain`: continuous LOD, pixels changed, fog valley fps (Roettger et al. 1998, §5).
+int bench_terrain(const std::vector<std::string>& args);
 
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);

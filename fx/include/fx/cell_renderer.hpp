@@ -23,8 +23,9 @@
 //     }
 // render() draws into the framebuffer bound to GL_DRAW_FRAMEBUFFER at the call, inside the
 // given viewport, over its contents (premultiplied "over"; the emission paths add light). It
-// saves and restores every GL state it changes (gl::StateGuard). Nothing is depth-tested
-// against the scene.
+// saves and restores every GL state it changes (gl::StateGuard). Without
+// CellRenderOptions::scene_depth nothing is depth-tested against the scene; with it the volume
+// stops at the scene's surfaces (fog ends at the ground, hills hide what is behind them).
 //
 // Ownership: owns its GL buffers, textures, programs and internal render targets (move-only;
 // destroy it while its context is current). Preconditions: a GL 4.5 core context current on
@@ -62,6 +63,16 @@ struct CellRenderOptions {
     bool timing = false;
     // Classic pcp: tile size in pixels for the footprint batching (see footprint_batches.hpp).
     int batch_tile = 4;
+    // The scene's depth buffer, so the volume stops at opaque surfaces: a GL_TEXTURE_2D name
+    // (0: none) holding window-space depth in [0, 1] written with this camera's
+    // projection_matrix() (GL's default depth range and clip control; the texture's compare mode
+    // NONE, as GL creates it). Texel (viewport.x + i, viewport.y + j) belongs to pixel (i, j) of
+    // the viewport. pcp-exact ends each ray's segment at the scene depth (exact: the scalar is
+    // interpolated to the cut); pcp clamps every face's depth d to it, so the α difference is the
+    // length in front of the scene (colour stays the per-cell trapezoid estimate); mip drops the
+    // fragments behind it (a cell cut by a surface shows its entry face's maximum). The texture
+    // must not be attached to the framebuffer render() draws into; it is read on texture unit 3.
+    unsigned int scene_depth = 0;
 };
 
 struct CellRenderStats {
@@ -89,6 +100,10 @@ public:
 
     // Rebuilds the tables (normalized functions are rescaled to the field's range).
     void set_transfer_function(const TransferFunction& tf);
+    // Replaces the mesh (and field), keeping the programs and the transfer function: for meshes
+    // rebuilt every frame (terrain LOD prisms). The function's normalized range follows the new
+    // field. Throws like the constructor.
+    void set_mesh(const CellMesh& mesh, const std::string& scalar_name);
 
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});

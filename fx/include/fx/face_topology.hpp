@@ -6,7 +6,8 @@
 // tetrahedralised neighbour does not match: both sides count as boundary.
 //
 // Face slots: the faces of cell c are slots first_face[c] .. first_face[c+1]-1, in the order
-// of cell_faces(type). Built once per mesh topology; O(F log F) in the number of faces.
+// of cell_faces(type). Built once per mesh topology; O(F) in the number of faces (faces are
+// grouped by their smallest vertex, then matched within each group).
 #pragma once
 
 #include <cstddef>

@@ -53,7 +53,12 @@ enum Uniform : GLint {
     kSource = 6,
     kCapBase = 7,
     kPass = 8,
+    // Scene depth (CellRenderOptions::scene_depth), project.glsl.
+    kSceneDepthMode = 20,
+    kSceneDepthRange = 21,
+    kSceneOrigin = 22,
 };
+constexpr GLuint kSceneDepthUnit = 3; // within the units gl::StateGuard saves
 enum Source : GLint { kSourceMesh = 0, kSourceBatch = 1, kSourceCaps = 2 };
 constexpr int kTableSize = 4096;
 constexpr int kSlotVertices = 36; // 12 triangles: the most any cell type has (hexahedron)
@@ -70,6 +75,7 @@ struct CellRenderer::Impl {
     CellMesh mesh; // topology for the per-frame projection (classic PCP, caps)
     ProjectorGeometry geometry;
     ScalarRange field_range;
+    TransferFunction source_tf; // as given: normalized ones are rescaled when the field changes
 
     gl::Buffer points, triangles, cells;
     gl::Buffer frame;
@@ -89,7 +95,9 @@ struct CellRenderer::Impl {
     std::vector<std::uint32_t> batch_of;
     std::vector<glm::uvec4> frame_data;
 
+    void upload_mesh(const CellMesh& source, const std::string& scalar_name);
     void upload_tables(const TransferFunction& tf);
+    void set_scene_depth_uniforms(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options) const;
     void set_view_uniforms(const Camera& camera, const Viewport& viewport) const;
     bool mesh_crosses_near_plane(const ProjectorView& view) const;
     void upload_frame();
@@ -104,16 +112,36 @@ struct CellRenderer::Impl {
 CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
+    m.upload_mesh(mesh, scalar_name);
+    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
+    m.exact = lib.link({"project.vert", "pcp_exact.frag"});
+    m.classic = lib.link({"project.vert", "pcp.frag"});
+    m.mip = lib.link({"project.vert", "mip.frag"});
+    m.resolve = lib.link({"fullscreen.vert", "pcp_resolve.frag"});
+    m.resolve_fog = lib.link({"fullscreen.vert", "pcp_resolve.frag"}, gl::Defines{{"RESOLVE_FOG", "1"}});
+    m.vao = gl::VertexArray::create();
+    m.timer = gl::Query::create(GL_TIME_ELAPSED);
+    m.tables = gl::make_texture_2d(GL_RGBA32F, kTableSize, 2);
+    set_transfer_function(tf);
+}
+
+void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
+    impl_->upload_mesh(mesh, scalar_name);
+    set_transfer_function(impl_->source_tf);
+}
+
+void CellRenderer::Impl::upload_mesh(const CellMesh& source, const std::string& scalar_name) {
+    Impl& m = *this;
     const ScalarField* field = nullptr;
     if (!scalar_name.empty()) {
-        field = mesh.find_scalar(scalar_name);
+        field = source.find_scalar(scalar_name);
         if (!field) throw Error("cell renderer: the mesh has no scalar field '" + scalar_name + "'");
-    } else if (!mesh.scalars.empty()) {
-        field = &mesh.scalars[0];
+    } else if (!source.scalars.empty()) {
+        field = &source.scalars[0];
     }
-    m.geometry = build_projector_geometry(mesh, field);
+    m.geometry = build_projector_geometry(source, field);
     m.field_range = field ? scalar_range(*field) : ScalarRange{0.0f, 0.0f};
-    m.mesh = mesh;
+    m.mesh = source;
     m.mesh.scalars.clear(); // the geometry holds the one field in use
 
     const std::size_t np = m.geometry.positions.size(), nt = m.geometry.triangles.size();
@@ -137,17 +165,6 @@ CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name,
     // The CPU copy of planes and triangles is only needed for caps; triangles stay (caps walk
     // them), positions stay (projection). Planes are GPU-only from here on.
     m.geometry.triangle_planes = {};
-
-    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
-    m.exact = lib.link({"project.vert", "pcp_exact.frag"});
-    m.classic = lib.link({"project.vert", "pcp.frag"});
-    m.mip = lib.link({"project.vert", "mip.frag"});
-    m.resolve = lib.link({"fullscreen.vert", "pcp_resolve.frag"});
-    m.resolve_fog = lib.link({"fullscreen.vert", "pcp_resolve.frag"}, gl::Defines{{"RESOLVE_FOG", "1"}});
-    m.vao = gl::VertexArray::create();
-    m.timer = gl::Query::create(GL_TIME_ELAPSED);
-    m.tables = gl::make_texture_2d(GL_RGBA32F, kTableSize, 2);
-    set_transfer_function(tf);
 }
 
 CellRenderer::~CellRenderer() = default;
@@ -158,6 +175,7 @@ std::size_t CellRenderer::cell_count() const { return impl_->mesh.cell_count(); 
 std::size_t CellRenderer::gpu_bytes() const { return impl_->bytes; }
 
 void CellRenderer::set_transfer_function(const TransferFunction& tf) {
+    impl_->source_tf = tf;
     const TransferFunction t =
         tf.normalized() ? tf.rescaled(impl_->field_range.lo, std::max(impl_->field_range.hi, impl_->field_range.lo + 1e-30f))
                         : tf;
@@ -199,6 +217,20 @@ void CellRenderer::Impl::set_view_uniforms(const Camera& camera, const Viewport&
         glProgramUniform4fv(p->id(), kTable, 1, glm::value_ptr(table));
     }
     FX_GL_CHECK("view uniforms");
+}
+
+void CellRenderer::Impl::set_scene_depth_uniforms(const Camera& camera, const Viewport& viewport,
+                                                  const CellRenderOptions& options) const {
+    // Mode 0: no scene depth; 1: perspective window depth; 2: orthographic (project.glsl).
+    const GLint mode = options.scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
+    for (const gl::Program* p : {&exact, &classic, &mip}) {
+        glProgramUniform1i(p->id(), kSceneDepthMode, mode);
+        glProgramUniform2f(p->id(), kSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
+        glProgramUniform2i(p->id(), kSceneOrigin, viewport.x, viewport.y);
+    }
+    glBindTextureUnit(kSceneDepthUnit, options.scene_depth);
+    glBindSampler(kSceneDepthUnit, 0);
+    FX_GL_CHECK("scene depth");
 }
 
 bool CellRenderer::Impl::mesh_crosses_near_plane(const ProjectorView& view) const {
@@ -399,12 +431,15 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     glBindTextureUnit(0, m.tables.id());
     glBindSampler(0, 0);
     m.set_view_uniforms(camera, viewport);
+    m.set_scene_depth_uniforms(camera, viewport, options);
 
     switch (path) {
     case RenderPath::PcpExact: m.draw_exact(stats); break;
     case RenderPath::Mip: m.draw_mip(camera, stats); break;
     case RenderPath::Pcp: m.draw_classic(camera, viewport, options, stats); break;
     }
+
+    glBindTextureUnit(kSceneDepthUnit, 0); // the host's depth may be attached to its framebuffer
 
     // Resolve over the host's framebuffer: premultiplied "over" (emission adds, alpha 0).
     const bool fog = options.fog && path == RenderPath::PcpExact;

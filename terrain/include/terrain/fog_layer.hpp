@@ -1,0 +1,62 @@
+// cellfx terrain — fog maps and the prisms stacked on a LOD mesh (Roettger & Ertl 2003, §5).
+//
+// A fog map is a second height field: the fog layer's thickness above the ground (a
+// HeightField on the ground's grid, ≥ 0). Every LOD triangle becomes a vertical prism — an
+// fx::CellType::Wedge whose three vertical edges run from the (geomorphed) ground up by the
+// (geomorphed) thickness at its corners — and the prisms form an fx::CellMesh with one
+// per-point scalar field for the render paths (fx::CellRenderer: pcp, pcp-exact with fog, mip;
+// fx::ScanlineRenderer as the reference). Only prisms with non-zero thickness are emitted.
+// Adjacent prisms share their points, so shared side faces are one face to every renderer.
+//
+// Wedge vertex order is VTK's with positive orientation (cell_mesh.hpp): vertices 0, 1, 2 the
+// bottom triangle (wound so that face faces down), 3, 4, 5 above them. Side faces are planar
+// (two vertical edges), so the cells are convex; validate_mesh() passes.
+//
+// Density per point (the scalar, named options.scalar_name):
+//   LayerHeight   0 at the ground, scale·thickness at the top: the paper's MIP set-up (§5),
+//                 denser where the layer is deeper;
+//   Noise         scale·max(noise(x, y), 0) at both ends: 2-D noise, constant up a column;
+//   LowerBorder   scale at the bottom, 0 at the top (aurora: brightest where the particles stop).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "fx/cell_mesh.hpp"
+#include "terrain/continuous_lod.hpp"
+#include "terrain/height_field.hpp"
+
+namespace terrain {
+
+enum class LayerDensity { LayerHeight, Noise, LowerBorder };
+
+struct LayerPrismOptions {
+    LayerDensity density = LayerDensity::LayerHeight;
+    double density_scale = 1.0;
+    HeightGenerator noise;             // LayerDensity::Noise: world (x, y) → density before scaling
+    std::string scalar_name = "density";
+};
+
+struct LayerPrismStats {
+    std::size_t triangles = 0;   // LOD triangles looked at
+    std::size_t prisms = 0;      // wedges emitted
+    std::size_t empty = 0;       // triangles with no thickness (no prism)
+    std::size_t points = 0;
+};
+
+// Builds the prism mesh over `mesh` (ContinuousLod::extract of a LOD built with a layer).
+// A triangle gets a prism when its corners' thicknesses sum to more than 1e-6 of its longest
+// edge (thinner ones are flat to every renderer and to validate_mesh). Throws fx::Error for
+// LayerDensity::Noise without a generator or a non-finite density.
+fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& options = {},
+                                LayerPrismStats* stats = nullptr);
+
+// A valley fog map: the fog fills the ground up to `level` (+ `modulation(x, y)` when given,
+// e.g. 2-D noise), thickness = clamp(level + modulation − ground, 0, max_thickness). With
+// `radius` > 0 the level is relative to the ground averaged over a square of ±radius world
+// units (a box filter), so fog collects in every hollow — crater floors, valley bottoms — at
+// its own height. Throws fx::Error for non-finite parameters, a negative max_thickness or radius.
+HeightField make_valley_fog_map(const HeightField& ground, double level, double max_thickness,
+                                const HeightGenerator& modulation = {}, double radius = 0.0);
+
+} // namespace terrain

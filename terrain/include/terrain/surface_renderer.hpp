@@ -1,0 +1,67 @@
+// cellfx terrain — the terrain surface drawn shaded under the fog, sharing depth with it.
+//
+// Draws a LodMesh (ContinuousLod::extract) as opaque triangles coloured by height (a ramp over
+// the field's height range) and lit by a sun (Lambert + ambient), with normals from the full-
+// resolution field (so shading does not change as the LOD refines). Depth is tested (GL_LESS)
+// and written, with no polygon offset: fog prisms share the ground's vertices, so a render path
+// clamping to this depth (fx::CellRenderOptions::scene_depth) ends their rays at the ground to
+// within a depth-buffer step, and an offset (which grows with the slope) would let fog behind a
+// ridge show through at its silhouette.
+//
+// Ownership: owns its programs, buffers and the normal texture (move-only; destroy it while its
+// context is current). Preconditions: a GL 4.5 core context current for every call; draw()
+// draws into the framebuffer bound to GL_DRAW_FRAMEBUFFER, which needs a depth attachment for
+// the depth test. Every GL state it changes is restored (fx::gl::StateGuard).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "fx/camera.hpp"
+#include "fx/cell_renderer.hpp"
+#include "terrain/continuous_lod.hpp"
+#include "terrain/height_field.hpp"
+
+namespace terrain {
+
+struct SurfaceStyle {
+    glm::dvec3 sun_direction{-0.45, -0.35, 0.82}; // towards the sun (normalised when used)
+    double ambient = 0.35;                         // light from the sky, as a fraction of full
+    // Colour by height fraction (0 = lowest, 1 = highest sample), linear between stops; at
+    // most 8 stops, fractions non-decreasing.
+    std::vector<std::pair<double, glm::dvec3>> ramp = {
+        {0.00, {0.18, 0.32, 0.14}}, {0.35, {0.34, 0.44, 0.22}}, {0.60, {0.45, 0.38, 0.28}},
+        {0.82, {0.55, 0.53, 0.50}}, {1.00, {0.96, 0.96, 0.98}}};
+};
+
+struct SurfaceStats {
+    std::size_t triangles = 0;
+    double cpu_ms = 0.0; // upload and draw calls
+};
+
+class SurfaceRenderer {
+public:
+    // Uploads the field's gradients (a float texture of size²·8 bytes) and compiles the shaders.
+    // Throws fx::Error for an empty field or a GL failure (shader errors name file:line).
+    explicit SurfaceRenderer(const HeightField& ground);
+    ~SurfaceRenderer();
+    SurfaceRenderer(SurfaceRenderer&&) noexcept;
+    SurfaceRenderer& operator=(SurfaceRenderer&&) noexcept;
+
+    // Draws `mesh` (of this field) with `camera` into `viewport` of the bound draw framebuffer.
+    // Throws fx::Error for an empty viewport or more than 8 ramp stops.
+    SurfaceStats draw(const LodMesh& mesh, const fx::Camera& camera, const fx::Viewport& viewport,
+                      const SurfaceStyle& style = {});
+
+    std::size_t gpu_bytes() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace terrain

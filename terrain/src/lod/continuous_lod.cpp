@@ -1,0 +1,618 @@
+// Based on: Röttger, Heidrich, Slusallek & Seidel 1998, "Real-Time Generation of Continuous
+// Levels of Detail for Height Fields": §3 (quadtree in a matrix of node centres, refinement
+// criterion f = l / (d·C·max(c·d2, 1)), d2 propagation with K = C / (2(C − 1)), triangle fans)
+// and §4 (geomorphing with the refinement value). The incremental update (nodes re-examined
+// only once the eye has moved far enough to change them) is ours; see continuous_lod.hpp.
+#include "terrain/continuous_lod.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "fx/error.hpp"
+
+namespace terrain {
+
+namespace {
+
+// Node state, indexed by the node's centre sample.
+enum : std::uint8_t { kLive = 1, kSplit = 2, kMorph = 4 };
+// Per-update bookkeeping flags (cleared at the end of every update).
+enum : std::uint8_t { kCandidate = 1, kEvaluated = 2, kVertexDirty = 4, kFanDirty = 8 };
+constexpr int kLevels = 15; // half sizes 1 .. 2^14
+constexpr std::int32_t kNoFan = -1;
+
+int level_of(int h) {
+    int l = 0;
+    while ((1 << l) < h) ++l;
+    return l;
+}
+
+struct Wake {
+    double at;               // odometer value at which the node must be looked at again
+    std::uint32_t node;
+    std::uint32_t generation; // stale entries (rescheduled or removed nodes) are skipped
+    bool operator>(const Wake& o) const { return at > o.at; }
+};
+
+// One leaf's triangle fan: its centre and the ring of corners and included edge midpoints,
+// counter-clockwise from above.
+struct Fan {
+    std::uint32_t node;
+    std::uint32_t count;
+    std::uint32_t ring[8];
+};
+
+} // namespace
+
+LodView LodView::from_camera(const fx::Camera& camera, int viewport_height, double pixel_error,
+                             std::size_t triangle_budget) {
+    if (viewport_height <= 0) throw fx::Error("terrain LOD: viewport height must be positive");
+    LodView view;
+    view.eye = camera.eye;
+    view.pixel_error = pixel_error;
+    view.triangle_budget = triangle_budget;
+    if (camera.orthographic()) {
+        const double distance = glm::length(camera.target - camera.eye);
+        view.projection_scale = viewport_height / camera.ortho_height * std::max(distance, 1e-9);
+    } else {
+        view.projection_scale = viewport_height / (2.0 * std::tan(0.5 * glm::radians(camera.fov_y_degrees)));
+    }
+    return view;
+}
+
+struct ContinuousLod::Impl {
+    HeightField ground;
+    std::optional<HeightField> layer;
+    LodSettings settings;
+    int n = 0;        // samples per side
+    int root_h = 0;   // root half size
+    std::uint32_t root = 0;
+    double K = 1.0;
+
+    // Per-sample data packed so one node (or one vertex) is one cache access: the update walks
+    // the quadtree in a scattered order.
+    struct Node {
+        float d2 = 0.0f;
+        float fe = 0.0f;                 // f_eff memo, valid when fe_frame == frame
+        std::uint32_t fe_frame = 0;
+        std::uint32_t generation = 0;    // bumped when the node is rescheduled or removed
+        std::int32_t fan = kNoFan;
+        std::uint8_t state = 0, flags = 0;
+    };
+    struct Vertex {
+        float true_h = 0.0f, true_t = 0.0f; // the fields' samples
+        float h = 0.0f, t = 0.0f;           // geomorphed height and thickness
+        std::uint32_t local = std::numeric_limits<std::uint32_t>::max(); // extract(): vertex id
+    };
+    std::vector<Node> nodes;
+    mutable std::vector<Vertex> verts;
+    std::vector<Fan> fans;
+    std::size_t triangles = 0;
+    std::size_t live = 0;
+    std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>> wakes;
+    std::vector<std::uint32_t> morphing, next_morphing;
+    std::array<std::vector<std::uint32_t>, kLevels> candidates, vertex_dirty;
+    std::vector<std::uint32_t> fan_dirty, touched;
+
+    std::uint32_t frame = 0;
+    double odometer = 0.0;
+    glm::dvec3 last_eye{0.0};
+    bool have_state = false;
+    LodView last_view;
+    double c_user = 0.0, c_eff = 0.0, budget_scale = 1.0;
+    LodStats* stats = nullptr;
+
+    // ---- geometry of the quadtree ----
+    int ix(std::uint32_t s) const { return int(s % std::uint32_t(n)); }
+    int jy(std::uint32_t s) const { return int(s / std::uint32_t(n)); }
+    std::uint32_t id(int i, int j) const { return std::uint32_t(j) * std::uint32_t(n) + std::uint32_t(i); }
+    bool center(int i, int j) const {
+        return i > 0 && j > 0 && i < n - 1 && j < n - 1 && (i & -i) == (j & -j);
+    }
+    int half_size(std::uint32_t s) const { const int i = ix(s); return i & -i; }
+    float true_height(std::uint32_t s) const { return verts[s].true_h; }
+    float true_thickness(std::uint32_t s) const { return verts[s].true_t; }
+    glm::dvec3 center_position(std::uint32_t s) const {
+        return {ground.x(ix(s)), ground.y(jy(s)), double(verts[s].true_h)};
+    }
+    // Centre of the parent of node (i, j, h): the odd multiple of 2h among i ± h.
+    int parent_coord(int i, int h) const { return ((i - h) / (2 * h)) % 2 == 1 ? i - h : i + h; }
+    // The coarser nodes a split of (i, j, h) needs split too: its parent and the parent's
+    // neighbours across the two parent edges the node touches. Returns how many (≤ 3).
+    int required(int i, int j, int h, std::uint32_t out[3]) const {
+        const int pi = parent_coord(i, h), pj = parent_coord(j, h);
+        int k = 0;
+        out[k++] = id(pi, pj);
+        const int qi = pi + (i > pi ? 4 * h : -4 * h), qj = pj + (j > pj ? 4 * h : -4 * h);
+        if (qi > 0 && qi < n - 1) out[k++] = id(qi, pj);
+        if (qj > 0 && qj < n - 1) out[k++] = id(pi, qj);
+        return k;
+    }
+    // Same-size neighbour across side s (0 south, 1 east, 2 north, 3 west), or false at the border.
+    bool neighbour(int i, int j, int h, int s, std::uint32_t& out) const {
+        static const int di[4] = {0, 1, 0, -1}, dj[4] = {-1, 0, 1, 0};
+        const int a = i + 2 * h * di[s], b = j + 2 * h * dj[s];
+        if (a <= 0 || b <= 0 || a >= n - 1 || b >= n - 1) return false;
+        out = id(a, b);
+        return true;
+    }
+
+    // ---- refinement ----
+    double node_scale(std::uint32_t s, int h) const { // T_N = d·C·max(c·d2, 1)
+        return 2.0 * h * ground.spacing * settings.min_resolution * std::max(c_eff * double(nodes[s].d2), 1.0);
+    }
+    double own_f(std::uint32_t s, int h) const { return glm::length(last_eye - center_position(s)) / node_scale(s, h); }
+    double f_eff(std::uint32_t s, int h) {
+        if (nodes[s].fe_frame == frame) return nodes[s].fe;
+        double f = own_f(s, h);
+        ++stats->nodes_evaluated;
+        if (s != root) {
+            std::uint32_t req[3];
+            const int k = required(ix(s), jy(s), h, req);
+            for (int q = 0; q < k; ++q) f = std::max(f, f_eff(req[q], 2 * h));
+        }
+        nodes[s].fe = float(f);
+        nodes[s].fe_frame = frame;
+        return nodes[s].fe;
+    }
+    double blend(std::uint32_t s) const {
+        const std::uint8_t st = nodes[s].state;
+        if (!(st & kSplit)) return 0.0;
+        if (!settings.geomorph || !(st & kMorph)) return 1.0;
+        return std::clamp(2.0 * (1.0 - double(nodes[s].fe)), 0.0, 1.0);
+    }
+
+    void mark(std::uint32_t s, std::uint8_t flag) {
+        if (!nodes[s].flags) touched.push_back(s);
+        if (nodes[s].flags & flag) return;
+        nodes[s].flags |= flag;
+        if (flag == kFanDirty) fan_dirty.push_back(s);
+        if (flag == kVertexDirty) vertex_dirty[level_of(half_size(s))].push_back(s);
+        if (flag == kCandidate) candidates[level_of(half_size(s))].push_back(s);
+    }
+    void mark_neighbours_changed(int i, int j, int h) {
+        for (int side = 0; side < 4; ++side) {
+            std::uint32_t m;
+            if (!neighbour(i, j, h, side, m) || !(nodes[m].state & kLive)) continue;
+            mark(m, kFanDirty);
+            if (nodes[m].state & kSplit) mark(m, kVertexDirty); // the shared midpoint's blend changed
+        }
+    }
+
+    void schedule(std::uint32_t s, int h, double f) {
+        const bool split = nodes[s].state & kSplit;
+        if (split && settings.geomorph && f > 0.5) {
+            nodes[s].state |= kMorph;
+            next_morphing.push_back(s);
+            ++nodes[s].generation; // no wake-up needed: looked at every frame
+            return;
+        }
+        nodes[s].state &= std::uint8_t(~kMorph);
+        const double margin = split ? (settings.geomorph ? 0.5 - f : 1.0 - f) : f - 1.0;
+        // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
+        const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
+        wakes.push(Wake{odometer + travel, s, ++nodes[s].generation});
+    }
+
+    void evaluate(std::uint32_t s, int h) {
+        if (nodes[s].flags & kEvaluated) return;
+        mark(s, kEvaluated);
+        ++stats->nodes_examined;
+        const std::uint8_t before = nodes[s].state;
+        const double f = f_eff(s, h);
+        if (f > own_f(s, h) * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
+        const bool want = f < 1.0;
+        if (want && !(before & kSplit)) split(s, h);
+        else if (!want && (before & kSplit)) merge(s, h);
+        schedule(s, h, f);
+        if ((before & (kMorph | kSplit)) != (nodes[s].state & (kMorph | kSplit)) || (nodes[s].state & kMorph))
+            mark(s, kVertexDirty);
+    }
+
+    void split(std::uint32_t s, int h) {
+        nodes[s].state |= kSplit;
+        ++stats->splits;
+        const int i = ix(s), j = jy(s);
+        mark(s, kFanDirty);
+        mark_neighbours_changed(i, j, h);
+        if (h < 2) return; // the smallest nodes split into their full 8-triangle fan
+        const int q = h / 2;
+        for (int c = 0; c < 4; ++c) {
+            const std::uint32_t child = id(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q));
+            nodes[child].state = kLive;
+            ++live;
+            mark(child, kFanDirty);
+            evaluate(child, q);
+        }
+    }
+
+    void merge(std::uint32_t s, int h) {
+        nodes[s].state &= std::uint8_t(~(kSplit | kMorph));
+        ++stats->merges;
+        const int i = ix(s), j = jy(s);
+        if (h >= 2) {
+            const int q = h / 2;
+            for (int c = 0; c < 4; ++c) remove(id(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q)), q);
+        }
+        mark(s, kFanDirty);
+        mark_neighbours_changed(i, j, h);
+    }
+
+    // Drops a live node and its subtree (its parent merged or the tree is rebuilt).
+    void remove(std::uint32_t s, int h) {
+        if (!(nodes[s].state & kLive)) return;
+        const int i = ix(s), j = jy(s);
+        if ((nodes[s].state & kSplit) && h >= 2) {
+            const int q = h / 2;
+            for (int c = 0; c < 4; ++c) remove(id(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q)), q);
+        }
+        const bool was_split = nodes[s].state & kSplit;
+        nodes[s].state = 0;
+        --live;
+        ++nodes[s].generation;
+        drop_fan(s);
+        if (was_split) mark_neighbours_changed(i, j, h);
+    }
+
+    // ---- geomorphing ----
+    void morph_vertex(std::uint32_t v, std::uint32_t a, std::uint32_t b, double w) {
+        // (1 − w)·coarse + w·true: exactly the true value at w = 1, the coarse one at w = 0.
+        verts[v].h = float((1.0 - w) * 0.5 * (double(verts[a].h) + verts[b].h) + w * true_height(v));
+        if (layer) verts[v].t = float((1.0 - w) * 0.5 * (double(verts[a].t) + verts[b].t) + w * true_thickness(v));
+        if (w > 0.0 && w < 1.0) ++stats->vertices_morphed;
+    }
+    void update_vertices(std::uint32_t s) {
+        const int i = ix(s), j = jy(s), h = half_size(s);
+        const double b = blend(s);
+        static const int ci[4] = {-1, 1, 1, -1}, cj[4] = {-1, -1, 1, 1}; // SW SE NE NW
+        for (int side = 0; side < 4; ++side) {
+            const int a = side, c = (side + 1) % 4; // side s runs from corner s to corner s + 1
+            const std::uint32_t ka = id(i + ci[a] * h, j + cj[a] * h), kc = id(i + ci[c] * h, j + cj[c] * h);
+            const std::uint32_t m = id((ix(ka) + ix(kc)) / 2, (jy(ka) + jy(kc)) / 2);
+            std::uint32_t other;
+            const double bo = neighbour(i, j, h, side, other) && (nodes[other].state & kLive) ? blend(other) : 0.0;
+            morph_vertex(m, ka, kc, std::max(b, bo));
+        }
+        if (h < 2 || b <= 0.0) return;
+        for (int c = 0; c < 4; ++c) {
+            const std::uint32_t k = id(i + ci[c] * h, j + cj[c] * h);
+            morph_vertex(id(i + ci[c] * h / 2, j + cj[c] * h / 2), s, k, b);
+        }
+    }
+
+    // ---- fans ----
+    void drop_fan(std::uint32_t s) {
+        const std::int32_t f = nodes[s].fan;
+        if (f == kNoFan) return;
+        triangles -= fans[f].count;
+        fans[f] = fans.back();
+        nodes[fans[f].node].fan = f;
+        fans.pop_back();
+        nodes[s].fan = kNoFan;
+    }
+    void rebuild_fan(std::uint32_t s) {
+        const std::uint8_t st = nodes[s].state;
+        const int h = half_size(s);
+        const bool drawn = (st & kLive) && (!(st & kSplit) || h == 1);
+        if (!drawn) {
+            drop_fan(s);
+            return;
+        }
+        const int i = ix(s), j = jy(s);
+        Fan fan{s, 0, {}};
+        static const int ci[4] = {-1, 1, 1, -1}, cj[4] = {-1, -1, 1, 1};
+        for (int side = 0; side < 4; ++side) {
+            fan.ring[fan.count++] = id(i + ci[side] * h, j + cj[side] * h);
+            std::uint32_t other;
+            const bool midpoint = (h == 1 && (st & kSplit)) ||
+                                  (neighbour(i, j, h, side, other) && (nodes[other].state & kLive) && (nodes[other].state & kSplit));
+            if (midpoint) {
+                const int c = (side + 1) % 4;
+                fan.ring[fan.count++] = id(i + (ci[side] + ci[c]) * h / 2, j + (cj[side] + cj[c]) * h / 2);
+            }
+        }
+        ++stats->fans_rebuilt;
+        if (nodes[s].fan == kNoFan) {
+            nodes[s].fan = std::int32_t(fans.size());
+            fans.push_back(fan);
+        } else {
+            triangles -= fans[nodes[s].fan].count;
+            fans[nodes[s].fan] = fan;
+        }
+        triangles += fan.count;
+    }
+
+    // ---- one update ----
+    void finish_update() {
+        for (int l = kLevels - 1; l >= 0; --l) {
+            for (std::size_t k = 0; k < vertex_dirty[l].size(); ++k) {
+                const std::uint32_t s = vertex_dirty[l][k];
+                if (nodes[s].state & kLive) update_vertices(s);
+            }
+            vertex_dirty[l].clear();
+        }
+        for (std::uint32_t s : fan_dirty) rebuild_fan(s);
+        fan_dirty.clear();
+        for (std::uint32_t s : touched) nodes[s].flags = 0;
+        touched.clear();
+        morphing.swap(next_morphing);
+        next_morphing.clear();
+    }
+
+    void rebuild() {
+        remove(root, root_h);
+        std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>().swap(wakes);
+        morphing.clear();
+        next_morphing.clear();
+        odometer = 0.0;
+        ++frame;
+        stats->full_rebuild = true;
+        nodes[root].state = kLive;
+        ++live;
+        mark(root, kFanDirty);
+        evaluate(root, root_h);
+        finish_update();
+    }
+
+    void advance(const glm::dvec3& eye) {
+        odometer += glm::length(eye - last_eye);
+        last_eye = eye;
+        ++frame;
+        while (!wakes.empty() && wakes.top().at <= odometer) {
+            const Wake w = wakes.top();
+            wakes.pop();
+            if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive) && !(nodes[w.node].flags & kCandidate)) {
+                mark(w.node, kCandidate);
+                ++stats->nodes_woken;
+            }
+        }
+        for (std::uint32_t s : morphing)
+            if (nodes[s].state & kLive) mark(s, kCandidate);
+        for (int l = kLevels - 1; l >= 0; --l) {
+            // evaluate() may split and append finer candidates' children; index, do not iterate.
+            for (std::size_t k = 0; k < candidates[l].size(); ++k) {
+                const std::uint32_t s = candidates[l][k];
+                if (nodes[s].state & kLive) evaluate(s, 1 << l);
+            }
+            candidates[l].clear();
+        }
+        // Stale heap entries pile up when nodes are rescheduled often: compact now and then.
+        if (wakes.size() > 4 * live + 1024) {
+            std::vector<Wake> keep;
+            while (!wakes.empty()) {
+                const Wake w = wakes.top();
+                wakes.pop();
+                if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive)) keep.push_back(w);
+            }
+            wakes = std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>(std::greater<Wake>(),
+                                                                                      std::move(keep));
+        }
+        finish_update();
+    }
+
+    void init(HeightField g, std::optional<HeightField> l, const LodSettings& s) {
+        if (!is_lod_size(g.size) || g.heights.size() != std::size_t(g.size) * std::size_t(g.size))
+            throw fx::Error("terrain LOD: the height field must have (2^n + 1)² samples, 3 ≤ 2^n + 1 ≤ 16385");
+        if (!(s.min_resolution > 1.0) || !std::isfinite(s.min_resolution))
+            throw fx::Error("terrain LOD: min_resolution (C) must be finite and greater than 1");
+        for (std::size_t k = 0; k < g.heights.size(); ++k)
+            if (!std::isfinite(g.heights[k]))
+                throw fx::Error("terrain LOD: the height at sample (" + std::to_string(k % g.size) + ", " +
+                                std::to_string(k / g.size) + ") is not finite");
+        if (l) {
+            require_same_grid(g, *l, "terrain LOD: the layer thickness map");
+            for (std::size_t k = 0; k < l->heights.size(); ++k)
+                if (!(l->heights[k] >= 0.0f) || !std::isfinite(l->heights[k]))
+                    throw fx::Error("terrain LOD: the layer thickness at sample (" + std::to_string(k % g.size) + ", " +
+                                    std::to_string(k / g.size) + ") is negative or not finite");
+        }
+        ground = std::move(g);
+        layer = std::move(l);
+        settings = s;
+        n = ground.size;
+        root_h = (n - 1) / 2;
+        root = id(root_h, root_h);
+        K = s.min_resolution / (2.0 * (s.min_resolution - 1.0));
+        const std::size_t count = std::size_t(n) * std::size_t(n);
+        nodes.assign(count, Node{});
+        verts.assign(count, Vertex{});
+        for (std::size_t k = 0; k < count; ++k) {
+            verts[k].true_h = verts[k].h = ground.heights[k];
+            verts[k].true_t = verts[k].t = layer ? layer->heights[k] : 0.0f;
+        }
+        compute_roughness();
+    }
+
+    // d2 bottom-up (§3): the node's own error over its 3×3 samples, then at least K times that
+    // of every finer node that needs it split (its children, and the nodes whose parent it neighbours).
+    void compute_roughness() {
+        const double spacing = ground.spacing;
+        auto error_at = [&](const std::vector<float>& z, std::uint32_t v, std::uint32_t a, std::uint32_t b) {
+            return std::abs(double(z[v]) - 0.5 * (double(z[a]) + double(z[b])));
+        };
+        std::vector<float> top;
+        if (layer) {
+            top.resize(ground.heights.size());
+            for (std::size_t k = 0; k < top.size(); ++k) top[k] = ground.heights[k] + layer->heights[k];
+        }
+        for (int h = 1; h <= root_h; h *= 2) {
+            for (int j = h; j < n - 1; j += 2 * h) {
+                for (int i = h; i < n - 1; i += 2 * h) {
+                    const std::uint32_t s = id(i, j);
+                    const std::uint32_t sw = id(i - h, j - h), se = id(i + h, j - h), ne = id(i + h, j + h),
+                                        nw = id(i - h, j + h);
+                    const std::uint32_t ms = id(i, j - h), me = id(i + h, j), mn = id(i, j + h), mw = id(i - h, j);
+                    double e = 0.0;
+                    for (const std::vector<float>* z : {&ground.heights, layer ? &top : nullptr}) {
+                        if (!z) continue;
+                        e = std::max({e, error_at(*z, ms, sw, se), error_at(*z, me, se, ne), error_at(*z, mn, ne, nw),
+                                      error_at(*z, mw, nw, sw), error_at(*z, s, sw, ne), error_at(*z, s, se, nw)});
+                    }
+                    double r = std::max(double(nodes[s].d2), e / (2.0 * h * spacing));
+                    nodes[s].d2 = float(r);
+                    if (h == root_h) continue;
+                    std::uint32_t req[3];
+                    const int k = required(i, j, h, req);
+                    for (int q = 0; q < k; ++q) nodes[req[q]].d2 = std::max(nodes[req[q]].d2, float(K * r));
+                }
+            }
+        }
+    }
+};
+
+ContinuousLod::ContinuousLod(HeightField ground, const LodSettings& settings) : impl_(std::make_unique<Impl>()) {
+    impl_->init(std::move(ground), std::nullopt, settings);
+}
+
+ContinuousLod::ContinuousLod(HeightField ground, HeightField layer_thickness, const LodSettings& settings)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->init(std::move(ground), std::move(layer_thickness), settings);
+}
+
+ContinuousLod::~ContinuousLod() = default;
+ContinuousLod::ContinuousLod(ContinuousLod&&) noexcept = default;
+ContinuousLod& ContinuousLod::operator=(ContinuousLod&&) noexcept = default;
+
+LodStats ContinuousLod::update(const LodView& view) {
+    Impl& m = *impl_;
+    if (!std::isfinite(view.eye.x) || !std::isfinite(view.eye.y) || !std::isfinite(view.eye.z))
+        throw fx::Error("terrain LOD: the eye position is not finite");
+    if (!(view.projection_scale > 0.0) || !std::isfinite(view.projection_scale))
+        throw fx::Error("terrain LOD: projection scale must be finite and positive");
+    if (!(view.pixel_error > 0.0) || !std::isfinite(view.pixel_error))
+        throw fx::Error("terrain LOD: the pixel error bound must be finite and positive");
+    const auto start = std::chrono::steady_clock::now();
+    LodStats stats;
+    m.stats = &stats;
+
+    const bool same_view = m.have_state && view.projection_scale == m.last_view.projection_scale &&
+                           view.pixel_error == m.last_view.pixel_error &&
+                           view.triangle_budget == m.last_view.triangle_budget;
+    if (!same_view) m.budget_scale = 1.0;
+    m.c_user = view.projection_scale / (view.pixel_error * m.settings.min_resolution);
+    m.c_eff = m.c_user * m.budget_scale;
+    if (same_view) {
+        m.advance(view.eye);
+    } else {
+        m.last_eye = view.eye;
+        m.rebuild();
+    }
+    m.last_view = view;
+    m.have_state = true;
+
+    const std::size_t budget = view.triangle_budget;
+    if (budget > 0) {
+        while (m.triangles > budget && stats.budget_adjustments < 12 && m.budget_scale > 1e-9) {
+            const double ratio = std::sqrt(double(budget) / double(m.triangles));
+            m.budget_scale *= std::clamp(0.95 * ratio, 0.1, 0.95);
+            m.c_eff = m.c_user * m.budget_scale;
+            m.rebuild();
+            ++stats.budget_adjustments;
+        }
+        if (m.triangles > budget) {
+            stats.over_budget = true;
+        } else if (m.triangles < budget / 2 && m.budget_scale < 1.0) {
+            const double previous = m.budget_scale;
+            m.budget_scale = std::min(1.0, m.budget_scale * 1.25);
+            m.c_eff = m.c_user * m.budget_scale;
+            m.rebuild();
+            ++stats.budget_adjustments;
+            if (m.triangles > budget) {
+                m.budget_scale = previous;
+                m.c_eff = m.c_user * m.budget_scale;
+                m.rebuild();
+                ++stats.budget_adjustments;
+            }
+        }
+    }
+
+    stats.triangles = m.triangles;
+    stats.live_nodes = m.live;
+    stats.morphing_nodes = m.morphing.size();
+    stats.error_scale = m.budget_scale;
+    m.stats = nullptr;
+    stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
+void ContinuousLod::reset() {
+    Impl& m = *impl_;
+    LodStats scratch;
+    m.stats = &scratch;
+    m.remove(m.root, m.root_h);
+    for (std::uint32_t s : m.fan_dirty) m.rebuild_fan(s);
+    m.fan_dirty.clear();
+    for (std::uint32_t s : m.touched) m.nodes[s].flags = 0;
+    m.touched.clear();
+    for (auto& v : m.vertex_dirty) v.clear();
+    std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>().swap(m.wakes);
+    m.morphing.clear();
+    for (Impl::Vertex& v : m.verts) v.h = v.true_h, v.t = v.true_t;
+    m.have_state = false;
+    m.stats = nullptr;
+}
+
+void ContinuousLod::extract(LodMesh& out) const {
+    const Impl& m = *impl_;
+    out.clear();
+    out.triangles.reserve(m.triangles);
+    auto local = [&](std::uint32_t s) {
+        Impl::Vertex& vertex = m.verts[s];
+        if (vertex.local == std::numeric_limits<std::uint32_t>::max()) {
+            vertex.local = std::uint32_t(out.grid_index.size());
+            out.grid_index.push_back(s);
+            out.positions.emplace_back(m.ground.x(m.ix(s)), m.ground.y(m.jy(s)), double(vertex.h));
+            out.thickness.push_back(std::max(vertex.t, 0.0f));
+        }
+        return vertex.local;
+    };
+    for (const Fan& f : m.fans) {
+        const std::uint32_t c = local(f.node);
+        for (std::uint32_t k = 0; k < f.count; ++k)
+            out.triangles.push_back({c, local(f.ring[k]), local(f.ring[(k + 1) % f.count])});
+    }
+    for (std::uint32_t s : out.grid_index) m.verts[s].local = std::numeric_limits<std::uint32_t>::max();
+}
+
+LodMesh ContinuousLod::mesh() const {
+    LodMesh mesh;
+    extract(mesh);
+    return mesh;
+}
+
+std::size_t ContinuousLod::triangle_count() const { return impl_->triangles; }
+std::size_t ContinuousLod::full_resolution_triangles() const {
+    const std::size_t cells = std::size_t(impl_->n - 1);
+    return 2 * cells * cells;
+}
+const HeightField& ContinuousLod::ground() const { return impl_->ground; }
+const HeightField* ContinuousLod::layer() const { return impl_->layer ? &*impl_->layer : nullptr; }
+const LodSettings& ContinuousLod::settings() const { return impl_->settings; }
+
+std::size_t ContinuousLod::memory_bytes() const {
+    const Impl& m = *impl_;
+    const std::size_t count = m.nodes.size();
+    std::size_t bytes = count * (sizeof(Impl::Node) + sizeof(Impl::Vertex) + sizeof(float) /*ground copy*/);
+    if (m.layer) bytes += count * sizeof(float);
+    bytes += m.fans.capacity() * sizeof(Fan) + m.wakes.size() * sizeof(Wake);
+    return bytes;
+}
+
+bool ContinuousLod::is_node_center(int i, int j) const { return impl_->center(i, j); }
+bool ContinuousLod::is_split(int i, int j) const {
+    return impl_->center(i, j) && (impl_->nodes[impl_->id(i, j)].state & kSplit);
+}
+double ContinuousLod::roughness(int i, int j) const { return impl_->center(i, j) ? impl_->nodes[impl_->id(i, j)].d2 : 0.0; }
+float ContinuousLod::morphed_height(int i, int j) const { return impl_->verts[impl_->id(i, j)].h; }
+float ContinuousLod::morphed_thickness(int i, int j) const {
+    return impl_->layer ? impl_->verts[impl_->id(i, j)].t : 0.0f;
+}
+
+} // namespace terrain

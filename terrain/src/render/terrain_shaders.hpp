@@ -1,0 +1,12 @@
+// The terrain library's shaders (shaders/terrain_*.{vert,frag}, embedded at build time by
+// terrain/CMakeLists.txt), as a shader library. Private to cellfx::terrain.
+#pragma once
+
+#include "gl/shader_library.hpp"
+
+namespace terrain {
+
+// Process-wide, immutable; built on first use.
+const fx::gl::ShaderLibrary& terrain_shaders();
+
+} // namespace terrain

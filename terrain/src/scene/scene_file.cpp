@@ -1,0 +1,341 @@
+// The scene-file loader (format: terrain/scene.hpp and docs/terrain.md). The one place that
+// reads scene JSON: later sections (effects) are added here.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "fx/error.hpp"
+#include "terrain/scene.hpp"
+
+namespace terrain {
+
+namespace {
+
+using nlohmann::json;
+
+// A JSON object at a key path ("fog.valley"), with typed getters that name the file and the key
+// in errors, and a check that every key was understood.
+class Section {
+public:
+    Section(const json& value, std::string path, const std::string& source) : j_(value), path_(std::move(path)), source_(source) {
+        if (!j_.is_object()) throw error("", "expected an object");
+    }
+
+    fx::Error error(const std::string& key, const std::string& what) const {
+        std::string where = path_;
+        if (!key.empty()) where += (where.empty() ? "" : ".") + key;
+        return fx::Error(source_ + ": " + (where.empty() ? "" : where + ": ") + what);
+    }
+    bool has(const std::string& key) const { return j_.contains(key); }
+    const json& at(const std::string& key) {
+        used_.insert(key);
+        return j_.at(key);
+    }
+
+    double number(const std::string& key, std::optional<double> fallback = std::nullopt) {
+        if (!has(key)) {
+            if (!fallback) throw error(key, "is required");
+            return *fallback;
+        }
+        const json& v = at(key);
+        if (!v.is_number()) throw error(key, "expected a number");
+        const double d = v.get<double>();
+        if (!std::isfinite(d)) throw error(key, "is not finite");
+        return d;
+    }
+    double positive(const std::string& key, std::optional<double> fallback = std::nullopt) {
+        const double d = number(key, fallback);
+        if (!(d > 0.0)) throw error(key, "must be positive");
+        return d;
+    }
+    long integer(const std::string& key, long fallback, long lo, long hi) {
+        if (!has(key)) return fallback;
+        const json& v = at(key);
+        if (!v.is_number_integer()) throw error(key, "expected an integer");
+        const long i = v.get<long>();
+        if (i < lo || i > hi) throw error(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi));
+        return i;
+    }
+    bool boolean(const std::string& key, bool fallback) {
+        if (!has(key)) return fallback;
+        const json& v = at(key);
+        if (!v.is_boolean()) throw error(key, "expected true or false");
+        return v.get<bool>();
+    }
+    std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt) {
+        if (!has(key)) {
+            if (!fallback) throw error(key, "is required");
+            return *fallback;
+        }
+        const json& v = at(key);
+        if (!v.is_string()) throw error(key, "expected a string");
+        return v.get<std::string>();
+    }
+    template <int N>
+    glm::vec<N, double> vector(const std::string& key, std::optional<glm::vec<N, double>> fallback = std::nullopt) {
+        if (!has(key)) {
+            if (!fallback) throw error(key, "is required");
+            return *fallback;
+        }
+        const json& v = at(key);
+        if (!v.is_array() || v.size() != std::size_t(N)) throw error(key, "expected an array of " + std::to_string(N) + " numbers");
+        glm::vec<N, double> out;
+        for (int k = 0; k < N; ++k) {
+            if (!v[k].is_number() || !std::isfinite(v[k].get<double>()))
+                throw error(key, "expected an array of " + std::to_string(N) + " finite numbers");
+            out[k] = v[k].get<double>();
+        }
+        return out;
+    }
+    Section object(const std::string& key) {
+        if (!has(key)) throw error(key, "is required");
+        return Section(at(key), child(key), source_);
+    }
+    std::string child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+    // Rejects keys nobody asked for (a typo is an error, not silently ignored).
+    void finish(std::initializer_list<const char*> optional_keys = {}) const {
+        for (auto it = j_.begin(); it != j_.end(); ++it) {
+            if (used_.count(it.key())) continue;
+            bool known = false;
+            for (const char* k : optional_keys) known = known || it.key() == k;
+            if (!known) throw error(it.key(), "unknown key");
+        }
+    }
+    void use(const std::string& key) { used_.insert(key); }
+    const std::string& source() const { return source_; }
+
+private:
+    const json& j_;
+    std::string path_;
+    const std::string& source_;
+    std::set<std::string> used_;
+};
+
+std::string resolve(const std::string& base_dir, const std::string& file) {
+    const std::filesystem::path p(file);
+    return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).lexically_normal().string();
+}
+
+NoiseSpec parse_noise(Section s) {
+    NoiseSpec n;
+    n.amplitude = s.number("amplitude", 1.0);
+    n.offset = s.number("offset", 0.0);
+    n.frequency = s.positive("frequency", 1.0);
+    n.octaves = int(s.integer("octaves", 4, 1, 16));
+    n.lacunarity = s.positive("lacunarity", 2.0);
+    n.gain = s.positive("gain", 0.5);
+    n.seed = std::uint32_t(s.integer("seed", 1, 0, 0xffffffffL));
+    s.finish();
+    return n;
+}
+
+fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fallback) {
+    if (!s.has(key)) return fallback;
+    const std::string name = s.string(key);
+    fx::RenderPath path;
+    if (!fx::parse_render_path(name, path))
+        throw s.error(key, "unknown render path '" + name + "' (expected pcp, pcp-exact, mip)");
+    return path;
+}
+
+fx::TransferFunction load_transfer_function(Section& s, const std::string& base_dir) {
+    const std::string file = resolve(base_dir, s.string("transfer_function"));
+    fx::TransferFunction tf;
+    try {
+        tf = fx::TransferFunction::read_json(file);
+    } catch (const fx::Error& e) {
+        throw s.error("transfer_function", e.what());
+    }
+    const double k = s.number("extinction_scale", 1.0);
+    if (k < 0.0) throw s.error("extinction_scale", "must not be negative");
+    std::vector<fx::TransferPoint> points = tf.points();
+    for (fx::TransferPoint& p : points) p.sigma *= k;
+    return fx::TransferFunction(std::move(points), tf.normalized());
+}
+
+HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const std::string& base_dir,
+                            double spacing, glm::dvec2 origin) {
+    HeightFieldOptions options;
+    options.spacing = spacing;
+    options.origin = origin;
+    options.vertical_scale = options_from.number("vertical_scale", 1.0);
+    if (options.vertical_scale == 0.0) throw options_from.error("vertical_scale", "must not be zero");
+    options.vertical_offset = options_from.number("vertical_offset", 0.0);
+    options.pad = options_from.boolean("pad", false);
+    const std::string file = resolve(base_dir, s.string(key));
+    try {
+        return read_height_field_png(file, options);
+    } catch (const fx::Error& e) {
+        throw s.error(key, e.what());
+    }
+}
+
+HeightField parse_terrain(Section s, const std::string& base_dir) {
+    HeightField ground;
+    if (s.has("height_map") == s.has("procedural"))
+        throw s.error("", "give either height_map or procedural");
+    if (s.has("height_map")) {
+        const double spacing = s.positive("spacing", 1.0);
+        const glm::dvec2 origin = s.vector<2>("origin", glm::dvec2(0.0));
+        ground = load_height_map(s, "height_map", s, base_dir, spacing, origin);
+    } else {
+        Section p = s.object("procedural");
+        const long size = p.integer("size", 257, 3, 16385);
+        if (!is_lod_size(int(size))) throw p.error("size", "must be 2^n + 1 (e.g. 257, 1025)");
+        const double spacing = p.positive("spacing", 1.0);
+        const glm::dvec2 origin = p.vector<2>("origin", glm::dvec2(0.0));
+        const NoiseSpec noise = parse_noise(p.object("noise"));
+        p.finish();
+        ground = make_height_field(int(size), spacing, make_noise_generator(noise), origin);
+    }
+    s.finish();
+    return ground;
+}
+
+FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_dir) {
+    FogSpec fog;
+    if (s.has("thickness_map") == s.has("valley")) throw s.error("", "give either thickness_map or valley");
+    if (s.has("thickness_map")) {
+        Section m = s.object("thickness_map");
+        fog.thickness = load_height_map(m, "file", m, base_dir, ground.spacing, ground.origin);
+        m.finish();
+        try {
+            require_same_grid(ground, fog.thickness, "the fog map");
+        } catch (const fx::Error& e) {
+            throw s.error("thickness_map", e.what());
+        }
+        for (float t : fog.thickness.heights)
+            if (t < 0.0f) throw s.error("thickness_map", "the fog map has negative thickness (check vertical_offset)");
+    } else {
+        Section v = s.object("valley");
+        const double level = v.number("level");
+        const double max_thickness = v.positive("max_thickness");
+        const double radius = v.number("radius", 0.0);
+        if (radius < 0.0) throw v.error("radius", "must not be negative");
+        HeightGenerator modulation;
+        if (v.has("noise")) modulation = make_noise_generator(parse_noise(v.object("noise")));
+        v.finish();
+        fog.thickness = make_valley_fog_map(ground, level, max_thickness, modulation, radius);
+    }
+    const std::string density = s.string("density", std::string("layer_height"));
+    if (density == "layer_height") {
+        fog.prisms.density = LayerDensity::LayerHeight;
+    } else if (density == "noise") {
+        fog.prisms.density = LayerDensity::Noise;
+        if (!s.has("density_noise")) throw s.error("density_noise", "is required with density \"noise\"");
+        fog.prisms.noise = make_noise_generator(parse_noise(s.object("density_noise")));
+    } else {
+        throw s.error("density", "expected \"layer_height\" or \"noise\", got \"" + density + "\"");
+    }
+    fog.prisms.density_scale = s.positive("density_scale", 1.0);
+    fog.transfer_function = load_transfer_function(s, base_dir);
+    fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
+    fog.absorb = s.boolean("absorb", true);
+    s.finish();
+    return fog;
+}
+
+AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
+    AuroraSpec a;
+    a.ceiling = s.number("ceiling");
+    const long size = s.integer("size", 129, 3, 16385);
+    if (!is_lod_size(int(size))) throw s.error("size", "must be 2^n + 1 (e.g. 129, 257)");
+    const double spacing = s.positive("spacing");
+    const glm::dvec2 origin = s.vector<2>("origin", glm::dvec2(0.0));
+    AuroraCurtains c;
+    if (s.has("curtains")) {
+        Section k = s.object("curtains");
+        c.count = int(k.integer("count", c.count, 1, 64));
+        c.max_depth = k.positive("max_depth", c.max_depth);
+        c.width = k.positive("width", c.width);
+        c.wander = k.number("wander", c.wander);
+        c.cutoff = k.number("cutoff", c.cutoff);
+        if (c.cutoff < 0.0 || c.cutoff >= 1.0) throw k.error("cutoff", "must be in [0, 1)");
+        c.seed = std::uint32_t(k.integer("seed", c.seed, 0, 0xffffffffL));
+        k.finish();
+    }
+    a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
+    a.transfer_function = load_transfer_function(s, base_dir);
+    a.path = parse_path(s, "path", fx::RenderPath::Mip);
+    a.pixel_error = s.positive("pixel_error", 4.0);
+    s.finish();
+    return a;
+}
+
+fx::Camera parse_camera(Section s) {
+    fx::Camera cam;
+    cam.eye = s.vector<3>("eye");
+    cam.target = s.vector<3>("target");
+    cam.up = s.vector<3>("up", glm::dvec3(0.0, 0.0, 1.0));
+    if (s.has("ortho")) {
+        cam.ortho_height = s.positive("ortho");
+    } else {
+        cam.fov_y_degrees = s.positive("fov", 50.0);
+        if (cam.fov_y_degrees >= 179.0) throw s.error("fov", "must be below 179 degrees");
+    }
+    cam.near_distance = s.positive("near", 1.0);
+    cam.far_distance = s.positive("far", 1.0e5);
+    if (!(cam.far_distance > cam.near_distance)) throw s.error("far", "must be beyond near");
+    if (cam.eye == cam.target) throw s.error("target", "is the eye position");
+    s.finish();
+    return cam;
+}
+
+} // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source, const std::string& base_dir) {
+    json doc;
+    try {
+        doc = json::parse(text.begin(), text.end());
+    } catch (const json::parse_error& e) {
+        throw fx::Error(source + ": JSON syntax error at byte " + std::to_string(e.byte) + ": " + e.what());
+    }
+    Section root(doc, "", source);
+    Scene scene;
+    scene.source = source;
+    scene.description = root.string("description", std::string());
+    scene.ground = parse_terrain(root.object("terrain"), base_dir);
+    if (root.has("lod")) {
+        Section l = root.object("lod");
+        scene.pixel_error = l.positive("pixel_error", scene.pixel_error);
+        scene.lod.min_resolution = l.number("min_resolution", scene.lod.min_resolution);
+        if (!(scene.lod.min_resolution > 1.0)) throw l.error("min_resolution", "must be greater than 1");
+        scene.triangle_budget = std::size_t(l.integer("triangle_budget", 0, 0, 1L << 40));
+        scene.lod.geomorph = l.boolean("geomorph", true);
+        l.finish();
+    }
+    if (root.has("fog")) scene.fog = parse_fog(root.object("fog"), scene.ground, base_dir);
+    if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), base_dir);
+    scene.camera = parse_camera(root.object("camera"));
+    if (root.has("render")) {
+        Section r = root.object("render");
+        scene.width = int(r.integer("width", scene.width, 1, 16384));
+        scene.height = int(r.integer("height", scene.height, 1, 16384));
+        scene.background = r.vector<3>("background", scene.background);
+        r.finish();
+    }
+    if (root.has("surface")) {
+        Section s = root.object("surface");
+        scene.surface.sun_direction = s.vector<3>("sun", scene.surface.sun_direction);
+        if (glm::dvec3(0.0) == scene.surface.sun_direction) throw s.error("sun", "must not be zero");
+        scene.surface.ambient = s.number("ambient", scene.surface.ambient);
+        if (scene.surface.ambient < 0.0 || scene.surface.ambient > 1.0) throw s.error("ambient", "must be in [0, 1]");
+        s.finish();
+    }
+    root.finish();
+    return scene;
+}
+
+Scene load_scene(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw fx::Error(path + ": cannot open the scene file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+} // namespace terrain
