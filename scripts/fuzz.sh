@@ -4,7 +4,8 @@
 # crashes, hangs, leaks, runs out of memory or trips a sanitizer; the input that did it is
 # kept in build-fuzz/artifacts/<target>/ (replay: build-fuzz/tests/fuzz/fuzz_<target> FILE).
 # Prints a summary per target. See docs/robustness.md.
-#   scripts/fuzz.sh [TARGET...]     vtk_legacy plot3d avs_ucd transfer_function (default: all)
+#   scripts/fuzz.sh [TARGET...]     vtk_legacy plot3d avs_ucd transfer_function height_field_png
+#                                   scene (default: all)
 #   CELLFX_FUZZ_SECONDS=60          run time per target
 #   CELLFX_FUZZ_TIMEOUT=10          seconds one input may take before it counts as a hang
 #   CELLFX_FUZZ_MALLOC_MB=512       largest single allocation allowed
@@ -17,7 +18,7 @@ seconds="${CELLFX_FUZZ_SECONDS:-60}"
 timeout="${CELLFX_FUZZ_TIMEOUT:-10}"
 malloc_mb="${CELLFX_FUZZ_MALLOC_MB:-512}"
 rss_mb="${CELLFX_FUZZ_RSS_MB:-2048}"
-all_targets=(vtk_legacy plot3d avs_ucd transfer_function)
+all_targets=(vtk_legacy plot3d avs_ucd transfer_function height_field_png scene)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
 for t in "${targets[@]}"; do
@@ -50,7 +51,7 @@ for t in "${targets[@]}"; do
   # shellcheck disable=SC2086
   "$build/tests/fuzz/fuzz_$t" "$work" "$root/tests/fuzz/corpus/$t" "${dict[@]}" \
     -max_total_time="$seconds" -timeout="$timeout" -malloc_limit_mb="$malloc_mb" -rss_limit_mb="$rss_mb" \
-    -artifact_prefix="$artifacts/" -print_final_stats=1 ${CELLFX_FUZZ_FLAGS:-} >"$log" 2>&1 || status=$?
+    -artifact_prefix="$artifacts/" -print_final_stats=1 ${CELLFX_FUZZ_FLAGS:-} >"$log" 2>&1 </dev/null || status=$?
   stat() { grep -m1 "^stat::$1:" "$log" | awk '{print $2}'; }
   done_line="$(grep -E '^#[0-9]+[[:space:]]+(DONE|INITED|NEW|REDUCE|pulse)' "$log" | tail -1 || true)"
   cov="$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$done_line")"

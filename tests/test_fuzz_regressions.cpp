@@ -70,6 +70,22 @@ TEST_CASE("Fuzz regressions and seeds: transfer-function JSON", "[transfer][fuzz
     check_folder("transfer_function", fx_fuzz::check_transfer_function, 7);
 }
 
+TEST_CASE("Fuzz regressions and seeds: PNG height fields", "[terrain][fuzz]") {
+    check_folder("height_field_png", fx_fuzz::check_height_field_png, 8);
+}
+
+TEST_CASE("Fuzz regressions and seeds: scene files", "[terrain][fuzz]") {
+    const std::string scenes = fx_test::source_path("content/scenes");
+    check_folder("scene", [&](const std::uint8_t* d, std::size_t n) { return fx_fuzz::check_scene(d, n, scenes); }, 5);
+}
+
+TEST_CASE("A folder where a file belongs is an fx::Error, not bad_alloc", "[io][fuzz]") {
+    const std::string folder = fx_test::source_path("content");
+    CHECK_THAT(fx_test::error_message([&] { fx::read_mesh(folder); }), Contains(folder + ": is a folder, not a file"));
+    CHECK_THAT(fx_test::error_message([&] { fx::TransferFunction::read_json(folder); }), Contains(folder + ": is a folder"));
+    CHECK_THAT(fx_test::error_message([&] { terrain::read_height_field_png(folder); }), Contains(folder + ": is a folder"));
+}
+
 TEST_CASE("Fuzz regressions: what each input must now say", "[io][fuzz]") {
     const std::function<void(const std::vector<char>&)> parse[] = {
         [](const std::vector<char>& d) { fx::parse_vtk_legacy(d, "f.vtk"); },
@@ -79,8 +95,16 @@ TEST_CASE("Fuzz regressions: what each input must now say", "[io][fuzz]") {
             fx::parse_plot3d(in.xyz, "f.xyz", in.q ? &*in.q : nullptr, "f.q");
         },
         [](const std::vector<char>& d) { fx::TransferFunction::parse_json(std::string_view(d.data(), d.size()), "f.json"); },
+        [](const std::vector<char>& d) {
+            terrain::HeightFieldOptions pad;
+            pad.pad = true;
+            terrain::parse_height_field_png(d, "f.png", pad);
+        },
+        [](const std::vector<char>& d) {
+            terrain::parse_scene(std::string_view(d.data(), d.size()), "f.scene", fx_test::source_path("content/scenes"));
+        },
     };
-    enum { Vtk, Ucd, Plot3d, Json };
+    enum { Vtk, Ucd, Plot3d, Json, Png, Scene };
     struct Expected {
         int reader;
         const char* file;
@@ -95,6 +119,9 @@ TEST_CASE("Fuzz regressions: what each input must now say", "[io][fuzz]") {
         {Json, "transfer_function/deeply_nested_sigma.json", "f.json: points[0]: sigma is not a number (an array of 1 entry)"},
         {Plot3d, "plot3d/dims_product_wraps_to_zero.grid", kNoPlot3dReading},
         {Plot3d, "plot3d/record_marker_claims_2gib.grid", kNoPlot3dReading},
+        {Png, "height_field_png/chunk_claims_1gib.png", "f.png: byte 33: truncated PNG: chunk \"IDAT\" claims 1090519170 bytes"},
+        {Scene, "scene/number_overflow_1e999.json", "f.scene: JSON error: [json.exception.out_of_range.406] number overflow"},
+        {Scene, "scene/height_map_is_a_folder.json", "is a folder, not a height map"},
         {Vtk, "vtk_legacy/claims_2e63_cell_data.vtk", "f.vtk: line 7: SCALARS \"s\": absurd count 9223372036854775807"},
         // Headers that claim far more than the file holds: an error before anything is allocated
         // (under AddressSanitizer an allocation of that size would abort the test).
@@ -110,6 +137,7 @@ TEST_CASE("Fuzz regressions: what each input must now say", "[io][fuzz]") {
         {Plot3d, "plot3d/claims_int32_max_dims.grid", kNoPlot3dReading},
         {Plot3d, "plot3d/claims_int32_max_blocks.grid", kNoPlot3dReading},
         {Plot3d, "plot3d/q_claims_2e90_nodes.grid_q", "f.q: byte 0: q file header does not read as big-endian"},
+        {Png, "height_field_png/claims_16385x16385.png", "f.png: truncated PNG: 12 bytes of pixel data cannot hold the 268468225 bytes"},
     };
     for (const Expected& e : expected) {
         INFO(e.file);

@@ -12,6 +12,8 @@
 //
 // PLOT3D needs two files: a fuzzer input is split by split_plot3d_input() (byte 0 bit 0: a q
 // file follows; bytes 1-4: little-endian length of the grid part, clamped to what is there).
+// Scene files name other files (height maps, transfer functions): they are resolved in the
+// folder given to check_scene(), content/scenes/ of the source tree.
 #pragma once
 
 #include <cmath>
@@ -20,6 +22,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "fx/avs_ucd.hpp"
 #include "fx/cell_mesh.hpp"
@@ -30,6 +34,8 @@
 #include "fx/plot3d.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/vtk_legacy.hpp"
+#include "terrain/height_field.hpp"
+#include "terrain/scene.hpp"
 
 namespace fx_fuzz {
 
@@ -39,6 +45,8 @@ inline const std::string kUcdName = "fuzz.inp";
 inline const std::string kXyzName = "fuzz.xyz";
 inline const std::string kQName = "fuzz.q";
 inline const std::string kJsonName = "fuzz.json";
+inline const std::string kPngName = "fuzz.png";
+inline const std::string kSceneName = "fuzz_scene.json";
 
 // A result may hold this many bytes per input byte (plus a constant): generous for every
 // format (an ASCII "0 " is 2 bytes and becomes an 8-byte coordinate or 4-byte index), far
@@ -188,6 +196,83 @@ inline std::string check_transfer_function(const std::uint8_t* data, std::size_t
         return "";
     } catch (const fx::Error& e) {
         return check_message(e, {kJsonName});
+    }
+}
+
+inline std::string check_height_field(const terrain::HeightField& f, const char* what) {
+    if (!terrain::is_lod_size(f.size) || f.heights.size() != std::size_t(f.size) * std::size_t(f.size)) {
+        return std::string(what) + ": size " + std::to_string(f.size) + " with " + std::to_string(f.heights.size()) + " heights";
+    }
+    if (!(f.spacing > 0.0) || !std::isfinite(f.spacing)) return std::string(what) + ": spacing not finite and positive";
+    for (float h : f.heights) {
+        if (!std::isfinite(h)) return std::string(what) + ": non-finite height";
+    }
+    return "";
+}
+
+// Without and, for images of at most 1025 pixels a side, with `pad`: padding a 16385 x 2 image
+// to 16385^2 samples (1 GiB) is what pad asks for, not a reader bug. No bound on memory per
+// input byte here: deflate compresses up to ~1000:1.
+inline std::string check_height_field_png(const std::uint8_t* data, std::size_t size) {
+    const std::vector<char> bytes(data, data + size);
+    const auto be32 = [&](std::size_t at) {
+        return std::uint32_t(data[at]) << 24 | std::uint32_t(data[at + 1]) << 16 | std::uint32_t(data[at + 2]) << 8 | data[at + 3];
+    };
+    const bool small = size >= 24 && be32(16) <= 1025 && be32(20) <= 1025; // IHDR width, height
+    for (bool pad : {false, true}) {
+        if (pad && !small) continue;
+        terrain::HeightFieldOptions options;
+        options.pad = pad;
+        options.vertical_scale = pad ? -0.25 : 1.0;
+        try {
+            if (std::string problem = check_height_field(terrain::parse_height_field_png(bytes, kPngName, options), "height field");
+                !problem.empty()) {
+                return problem;
+            }
+        } catch (const fx::Error& e) {
+            if (std::string problem = check_message(e, {kPngName}); !problem.empty()) return problem;
+        }
+    }
+    return "";
+}
+
+// Scenes may ask for 16385^2 procedural samples (1 GiB, minutes of noise): valid and slow, so
+// inputs asking for more than 513 a side are left out here.
+inline bool scene_asks_for_large_grid(std::string_view text) {
+    nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
+    if (!doc.is_object()) return false;
+    const auto too_big = [](const nlohmann::json& section) {
+        if (!section.is_object()) return false;
+        const auto size = section.find("size");
+        return size != section.end() && size->is_number() && !(size->get<double>() <= 513.0);
+    };
+    const auto terrain_section = doc.find("terrain");
+    if (terrain_section != doc.end() && terrain_section->is_object()) {
+        const auto procedural = terrain_section->find("procedural");
+        if (procedural != terrain_section->end() && too_big(*procedural)) return true;
+    }
+    const auto aurora = doc.find("aurora");
+    return aurora != doc.end() && too_big(*aurora);
+}
+
+inline std::string check_scene(const std::uint8_t* data, std::size_t size, const std::string& base_dir) {
+    const std::string_view text(reinterpret_cast<const char*>(data), size);
+    if (scene_asks_for_large_grid(text)) return "";
+    try {
+        const terrain::Scene scene = terrain::parse_scene(text, kSceneName, base_dir);
+        if (std::string problem = check_height_field(scene.ground, "ground"); !problem.empty()) return problem;
+        if (scene.fog) {
+            if (std::string problem = check_height_field(scene.fog->thickness, "fog thickness"); !problem.empty()) return problem;
+            if (scene.fog->thickness.size != scene.ground.size) return "fog thickness not on the ground's grid";
+        }
+        if (scene.aurora) {
+            if (std::string problem = check_height_field(scene.aurora->layer.depth, "aurora depth"); !problem.empty()) return problem;
+            if (std::string problem = check_height_field(scene.aurora->layer.lower_border, "aurora border"); !problem.empty()) return problem;
+        }
+        if (scene.width < 1 || scene.height < 1) return "render size not positive";
+        return "";
+    } catch (const fx::Error& e) {
+        return check_message(e, {kSceneName});
     }
 }
 

@@ -442,6 +442,103 @@ void transfer_function_seeds(const fs::path& source) {
     write_seed("transfer_function", "integers.json", R"({"points":[[0,0,0,0,0],[1,1,1,1,1],[1,0,0,0,3],[2,2,2,2,2]]})");
 }
 
+// A PNG with the pixels in stored (uncompressed) deflate blocks: any bit depth and colour type,
+// no zlib needed. `pixels` holds the raw samples, big-endian for 16 bits, rows top first.
+std::uint32_t crc32(const std::string& bytes) {
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+void append_be32(std::string& out, std::uint32_t v) {
+    for (int k = 3; k >= 0; --k) out += char((v >> (8 * k)) & 0xFF);
+}
+void append_chunk(std::string& out, const char* type, const std::string& data) {
+    append_be32(out, std::uint32_t(data.size()));
+    const std::string body = std::string(type, 4) + data;
+    out += body;
+    append_be32(out, crc32(body));
+}
+std::string png_bytes(int w, int h, int depth, int colour_type, const std::string& pixels) {
+    static const int kChannels[7] = {1, 0, 3, 0, 2, 0, 4};
+    const std::size_t row_bytes = std::size_t(w) * kChannels[colour_type] * depth / 8;
+    std::string raw;
+    for (int y = 0; y < h; ++y) raw += '\0' + pixels.substr(y * row_bytes, row_bytes); // filter type 0
+    std::string z = "\x78\x01";
+    std::uint32_t a = 1, b = 0;
+    for (unsigned char c : raw) a = (a + c) % 65521, b = (b + a) % 65521;
+    for (std::size_t at = 0; at < raw.size() || at == 0; at += 65535) {
+        const std::size_t n = std::min<std::size_t>(65535, raw.size() - at);
+        z += char(at + n >= raw.size() ? 1 : 0);
+        z += char(n & 0xFF), z += char(n >> 8), z += char(~n & 0xFF), z += char((~n >> 8) & 0xFF);
+        z += raw.substr(at, n);
+        if (raw.empty()) break;
+    }
+    append_be32(z, (b << 16) | a);
+    std::string ihdr;
+    append_be32(ihdr, std::uint32_t(w));
+    append_be32(ihdr, std::uint32_t(h));
+    ihdr += char(depth), ihdr += char(colour_type), ihdr += '\0', ihdr += '\0', ihdr += '\0';
+    std::string out = "\x89PNG\r\n\x1a\n";
+    append_chunk(out, "IHDR", ihdr);
+    append_chunk(out, "IDAT", z);
+    append_chunk(out, "IEND", "");
+    return out;
+}
+
+std::string ramp_pixels(int w, int h, int channels, int depth) {
+    std::string p;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < channels; ++c) {
+                const int v = (x * 37 + y * 11 + c * 5) % 256;
+                p += char(v);
+                if (depth == 16) p += char(255 - v);
+            }
+    return p;
+}
+
+void height_field_seeds(const fs::path& source) {
+    write_seed("height_field_png", "real_st_helens_257.png", read_file(source / "content/terrain/st_helens_257.png"));
+    write_seed("height_field_png", "grey8_5x5.png", png_bytes(5, 5, 8, 0, ramp_pixels(5, 5, 1, 8)));
+    write_seed("height_field_png", "grey16_9x9.png", png_bytes(9, 9, 16, 0, ramp_pixels(9, 9, 1, 16)));
+    write_seed("height_field_png", "grey8_6x4_needs_pad.png", png_bytes(6, 4, 8, 0, ramp_pixels(6, 4, 1, 8)));
+    write_seed("height_field_png", "grey16_3x17_needs_pad.png", png_bytes(3, 17, 16, 0, ramp_pixels(3, 17, 1, 16)));
+    write_seed("height_field_png", "rgb8_5x5.png", png_bytes(5, 5, 8, 2, ramp_pixels(5, 5, 3, 8)));
+    write_seed("height_field_png", "grey_alpha8_5x5.png", png_bytes(5, 5, 8, 4, ramp_pixels(5, 5, 2, 8)));
+    write_seed("height_field_png", "rgba16_3x3.png", png_bytes(3, 3, 16, 6, ramp_pixels(3, 3, 4, 16)));
+}
+
+void scene_seeds(const fs::path& source) {
+    for (const auto& entry : fs::directory_iterator(source / "content/scenes")) {
+        if (entry.path().extension() == ".json") write_seed("scene", "real_" + entry.path().filename().string(), read_file(entry.path()));
+    }
+    // Every section and option of the format, on small procedural grids (files resolve in
+    // content/scenes/, as for the real scenes).
+    const std::string noise = R"({"amplitude": 40, "offset": 5, "frequency": 0.01, "octaves": 3, "lacunarity": 2, "gain": 0.5, "seed": 7})";
+    const std::string camera = R"("camera": {"eye": [100, -300, 400], "target": [160, 160, 20], "up": [0, 0, 1], "fov": 50, "near": 5, "far": 6000})";
+    write_seed("scene", "procedural_valley_fog.json",
+               "{\"description\": \"procedural ground, valley fog with noise density\",\n"
+               " \"terrain\": {\"procedural\": {\"size\": 33, \"spacing\": 10, \"origin\": [-5, 5], \"noise\": " + noise + "}},\n"
+               " \"lod\": {\"pixel_error\": 3, \"min_resolution\": 4, \"triangle_budget\": 5000, \"geomorph\": false},\n"
+               " \"fog\": {\"valley\": {\"level\": 20, \"max_thickness\": 30, \"radius\": 40, \"noise\": " + noise + "},\n"
+               "         \"density\": \"noise\", \"density_scale\": 2, \"density_noise\": " + noise + ",\n"
+               "         \"transfer_function\": \"../transfer_functions/fog.json\", \"extinction_scale\": 0.01, \"path\": \"pcp-exact\", \"absorb\": false},\n"
+               " " + camera + ",\n"
+               " \"render\": {\"width\": 64, \"height\": 48, \"background\": [0.1, 0.2, 0.3]},\n"
+               " \"surface\": {\"sun\": [1, 2, 3], \"ambient\": 0.4}}\n");
+    write_seed("scene", "height_map_thickness_map_aurora.json",
+               "{\"terrain\": {\"height_map\": \"../terrain/st_helens_257.png\", \"spacing\": 30, \"vertical_scale\": 0.5, \"vertical_offset\": 10, \"pad\": false},\n"
+               " \"fog\": {\"thickness_map\": {\"file\": \"../terrain/st_helens_257.png\", \"vertical_scale\": 0.1, \"pad\": true},\n"
+               "         \"density\": \"layer_height\", \"transfer_function\": \"transfer_functions/fog_glow.json\", \"path\": \"mip\"},\n"
+               " \"aurora\": {\"ceiling\": 12000, \"size\": 17, \"spacing\": 120, \"origin\": [0, 0],\n"
+               "            \"curtains\": {\"count\": 2, \"max_depth\": 3000, \"width\": 250, \"wander\": 1500, \"cutoff\": 0.02, \"seed\": 3},\n"
+               "            \"transfer_function\": \"transfer_functions/aurora.json\", \"extinction_scale\": 1, \"path\": \"pcp\", \"pixel_error\": 4},\n"
+               " " + camera + "}\n");
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -456,6 +553,8 @@ int main(int argc, char** argv) {
         plot3d_seeds(source);
         ucd_seeds(source);
         transfer_function_seeds(source);
+        height_field_seeds(source);
+        scene_seeds(source);
         fs::remove_all(fs::path(g_out) / ".tmp");
         // Every seed must satisfy the fuzz checks, or the corpus would start with a failure.
         int bad = 0;
@@ -463,10 +562,13 @@ int main(int argc, char** argv) {
             for (const auto& entry : fs::directory_iterator(fs::path(g_out) / target)) {
                 const std::string bytes = read_file(entry.path());
                 const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
-                std::string problem = target == "vtk_legacy" ? fx_fuzz::check_vtk_legacy(data, bytes.size())
-                                      : target == "plot3d"   ? fx_fuzz::check_plot3d(data, bytes.size())
-                                      : target == "avs_ucd"  ? fx_fuzz::check_avs_ucd(data, bytes.size())
-                                                             : fx_fuzz::check_transfer_function(data, bytes.size());
+                const std::size_t n = bytes.size();
+                std::string problem = target == "vtk_legacy"         ? fx_fuzz::check_vtk_legacy(data, n)
+                                      : target == "plot3d"           ? fx_fuzz::check_plot3d(data, n)
+                                      : target == "avs_ucd"          ? fx_fuzz::check_avs_ucd(data, n)
+                                      : target == "height_field_png" ? fx_fuzz::check_height_field_png(data, n)
+                                      : target == "scene"            ? fx_fuzz::check_scene(data, n, (source / "content/scenes").string())
+                                                                     : fx_fuzz::check_transfer_function(data, n);
                 if (!problem.empty()) {
                     std::fprintf(stderr, "%s: %s\n", entry.path().c_str(), problem.c_str());
                     ++bad;
