@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -131,6 +132,8 @@ TransferFunction TransferFunction::parse_json(std::string_view text, const std::
 }
 
 TransferFunction TransferFunction::read_json(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a folder, not a transfer function file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open transfer function file");
     std::ostringstream text;
