@@ -147,3 +147,16 @@ TEST_CASE("Fuzz regressions: what each input must now say", "[io][fuzz]") {
         CHECK_THAT(fx_test::error_message([&] { parse[e.reader](data); }), Contains(e.message));
     }
 }
+
+TEST_CASE("Fuzz regression: rescaling onto a narrow range merges points into a step", "[transfer][fuzz]") {
+    // s = 0, 1, 1, 2.1e94 onto [1e-7, 2e-7]: the first three land on s = 1e-7, which used to make
+    // rescaled() throw "appears more than twice". The first and last of the run form a step.
+    const std::string text = fx_test::read_bytes(fx_test::source_path("tests/data/fuzz_regressions/transfer_function/rescaled_points_merge.json"));
+    const fx::TransferFunction tf = fx::TransferFunction::parse_json(text, "merge.json").rescaled(1e-7, 2e-7);
+    REQUIRE(tf.points().size() == 3);
+    CHECK(tf.points()[0].s == 1e-7);
+    CHECK(tf.points()[1].s == 1e-7);
+    CHECK(tf.points()[2].s == 2e-7);
+    CHECK(tf.sigma(0.5e-7) == 0.0); // below the step: the first point's value
+    CHECK(tf.sigma(1e-7) == 3.0);   // from above: the run's last point
+}

@@ -165,7 +165,15 @@ TransferFunction TransferFunction::rescaled(double lo, double hi) const {
     // lo > hi mirrors the function; reversing the list also swaps the two entries of each step,
     // which is what "value from below" / "from above" need after the mirror.
     if (lo > hi) std::reverse(out.begin(), out.end());
-    return TransferFunction(std::move(out), false);
+    // Points closer together than the new range resolves land on one s (s = 0, 1, 1, 2e94
+    // onto [1e-7, 2e-7]); three there would not be a valid step. Keep the first and the last
+    // of such a run: the values from below and from above, what the squeezed function tends to.
+    std::vector<TransferPoint> kept;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const bool inside_run = i > 0 && i + 1 < out.size() && out[i - 1].s == out[i].s && out[i + 1].s == out[i].s;
+        if (!inside_run) kept.push_back(out[i]);
+    }
+    return TransferFunction(std::move(kept), false);
 }
 
 glm::dvec3 TransferFunction::color(double s) const { return evaluate(points_, s).color; }
