@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -180,7 +181,11 @@ inline std::string check_transfer_function(const std::uint8_t* data, std::size_t
                 const glm::dvec3 c = f.color(s);
                 const double sigma = f.sigma(s);
                 for (double v : {c.r, c.g, c.b, sigma}) {
-                    if (!(std::isfinite(v) && v >= 0.0)) return std::string(what) + ": value at s = " + std::to_string(s) + " is negative or not finite";
+                    if (!(std::isfinite(v) && v >= 0.0)) {
+                        char at[64];
+                        std::snprintf(at, sizeof at, "%.17g", s);
+                        return std::string(what) + ": value at s = " + at + " is negative or not finite";
+                    }
                 }
             }
             return "";
@@ -190,7 +195,9 @@ inline std::string check_transfer_function(const std::uint8_t* data, std::size_t
             try {
                 if (std::string problem = check_values(tf.rescaled(lo, hi), "rescaled"); !problem.empty()) return problem;
             } catch (const fx::Error& e) {
-                return "rescaled(" + std::to_string(lo) + ", " + std::to_string(hi) + ") of a valid function failed: " + e.what();
+                char range[64];
+                std::snprintf(range, sizeof range, "rescaled(%g, %g)", lo, hi);
+                return std::string(range) + " of a valid function failed: " + e.what();
             }
         }
         return "";
