@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages cellfx builds and runs with. Idempotent: quiet when all are
 # present. Run as root on Debian 12 (or with sudo available).
+#   scripts/setup.sh fuzz   also installs clang and libFuzzer for scripts/fuzz.sh
 set -euo pipefail
 
 packages=(
@@ -11,6 +12,14 @@ packages=(
   xvfb xauth                                          # a real GLFW window in tests, without a display
   gnuplot-nox                                         # cellfx bench accuracy: the time-against-error plot
 )
+
+# Optional groups, only when named on the command line.
+for group in "$@"; do
+  case "$group" in
+    fuzz) packages+=(clang-14 libclang-rt-14-dev llvm-14) ;; # libFuzzer, sanitizer runtimes, llvm-symbolizer
+    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

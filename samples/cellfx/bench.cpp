@@ -12,7 +12,8 @@ int run_bench(const std::vector<std::string>& args) {
     if (args.empty() || args[0] == "--help") {
         std::puts("usage: cellfx bench NAME [options]\n"
                   "  scanline   CPU scan-line renderer on a synthetic nine-grid data set (Wilhelms et al. Table 3)\n"
-                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)\n"
+                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0),\n"
+                  "             --threads LIST (1,2: thread counts, speed-up against the first)\n"
                   "  pcp        GPU cell projection (pcp, pcp-exact, mip) on the blunt fin and a hex grid\n"
                   "             options: --sizes 512,1024, --repeat N (5), --grid N (100: 1M cells), --mesh XYZ --q Q\n"
                   "  sort       visibility sorts (centroid, mpvo, xmpvo, power) on ~1M tetrahedra\n"

@@ -49,6 +49,7 @@ public:
     // The same function with its s range [first, last] mapped linearly onto [lo, hi]
     // (normalized() becomes false). lo > hi mirrors the function; lo == hi or a non-finite
     // bound throws fx::Error. A function whose points all share one s is centred in [lo, hi].
+    // Where a narrow range maps more than two points onto one s, the first and last are kept.
     TransferFunction rescaled(double lo, double hi) const;
 
     // Values at s; at a step, the value from above (right-continuous).

@@ -107,7 +107,6 @@ public:
     std::size_t boundary_triangle_count() const;
 
 private:
-    const CellMesh& mesh_;
     SortMethod method_;
     double setup_seconds_ = 0.0;
     std::shared_ptr<const sort_detail::KeySort> keys_;       // centroid, power

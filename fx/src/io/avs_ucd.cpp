@@ -6,9 +6,10 @@
 // where hex nodes 1-4 are the top face listed counter-clockwise seen from above.
 #include "fx/avs_ucd.hpp"
 
+#include <algorithm>
 #include <array>
 #include <limits>
-#include <unordered_map>
+#include <utility>
 
 #include "fx/mesh_validation.hpp"
 #include "io/io_util.hpp"
@@ -46,7 +47,9 @@ public:
 private:
     Scanner s_;
     std::vector<std::string>* notes_;
-    std::unordered_map<std::int64_t, std::uint32_t> node_index_;
+    // (file node id, point index), sorted: a hash map would degrade to O(n^2) for ids chosen
+    // to share one bucket (multiples of its bucket count), and a file could hang the reader.
+    std::vector<std::pair<std::int64_t, std::uint32_t>> node_ids_;
     std::vector<std::int64_t> cell_ids_;     // file id of each kept cell
     std::vector<std::size_t> cell_starts_;   // byte offset of each kept cell's line
 
@@ -54,8 +57,8 @@ private:
         if (notes_) notes_->push_back(line);
     }
     std::uint32_t node(std::int64_t id, std::size_t pos, const std::string& where) {
-        const auto it = node_index_.find(id);
-        if (it == node_index_.end()) s_.fail_at_line(pos, where + ": node id " + std::to_string(id) + " is not defined");
+        const auto it = std::lower_bound(node_ids_.begin(), node_ids_.end(), std::make_pair(id, std::uint32_t(0)));
+        if (it == node_ids_.end() || it->first != id) s_.fail_at_line(pos, where + ": node id " + std::to_string(id) + " is not defined");
         return it->second;
     }
 };
@@ -82,7 +85,8 @@ CellMesh UcdReader::read() {
 
     CellMesh mesh;
     mesh.points.resize(nodes);
-    node_index_.reserve(nodes);
+    node_ids_.reserve(nodes);
+    std::vector<std::size_t> node_starts(nodes);
     for (std::size_t i = 0; i < nodes; ++i) {
         const std::string what = "node " + std::to_string(i);
         const std::int64_t id = s_.read_int(what + " id");
@@ -92,10 +96,20 @@ CellMesh UcdReader::read() {
         p.y = s_.read_double(what + " y");
         p.z = s_.read_double(what + " z");
         if (!io::all_finite(p.x, p.y, p.z)) s_.fail_at_line(pos, "node id " + std::to_string(id) + " has a non-finite coordinate (NaN or Inf)");
-        if (!node_index_.emplace(id, static_cast<std::uint32_t>(i)).second) {
-            s_.fail_at_line(pos, "node id " + std::to_string(id) + " is defined twice");
+        node_ids_.emplace_back(id, static_cast<std::uint32_t>(i));
+        node_starts[i] = pos;
+    }
+    std::sort(node_ids_.begin(), node_ids_.end());
+    // Report the first line, in file order, whose id was defined before.
+    std::size_t first_repeat = nodes;
+    std::int64_t repeated_id = 0;
+    for (std::size_t k = 1; k < node_ids_.size(); ++k) {
+        if (node_ids_[k].first == node_ids_[k - 1].first && node_ids_[k].second < first_repeat) {
+            first_repeat = node_ids_[k].second;
+            repeated_id = node_ids_[k].first;
         }
     }
+    if (first_repeat < nodes) s_.fail_at_line(node_starts[first_repeat], "node id " + std::to_string(repeated_id) + " is defined twice");
 
     std::size_t skipped_by_dimension[3] = {0, 0, 0};
     mesh.cell_types.reserve(cells);

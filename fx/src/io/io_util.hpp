@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <string_view>
@@ -21,6 +22,9 @@ namespace fx::io {
 
 // The bytes of a file. Throws fx::Error naming the file when it cannot be opened or read.
 inline std::vector<char> read_file_bytes(const std::string& path) {
+    // A folder opens and seeks like a file, but its "size" is no size (bad_alloc on ext4).
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a folder, not a file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open file");
     in.seekg(0, std::ios::end);

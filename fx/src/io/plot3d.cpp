@@ -72,17 +72,20 @@ bool parse_header(const Bytes& b, bool big_endian, bool markers, bool multi, std
     }
     if (!b.has(offset, 12 * blocks)) return false;
     h.dims.assign(blocks, Dims{0, 0, 0});
+    const std::uint64_t max_nodes = b.data.size() / min_bytes_per_node;
     std::uint64_t total_nodes = 0;
     for (std::uint64_t k = 0; k < blocks; ++k) {
+        // The node count is bounded as it is multiplied up: three dims of up to 2^30 can wrap
+        // around 64 bits (2^28 * 2^25 * 2^25 is 0) and would pass a check of the product.
+        std::uint64_t n = 1;
         for (int a = 0; a < 3; ++a) {
             const std::int32_t v = b.int32(offset + 12 * k + 4 * a, big_endian);
-            if (v < 1 || std::uint64_t(v) > kMaxDim) return false;
+            if (v < 1 || std::uint64_t(v) > kMaxDim || std::uint64_t(v) > max_nodes / n) return false;
             h.dims[k][a] = std::uint32_t(v);
+            n *= std::uint64_t(v);
         }
-        const std::uint64_t n = node_count(h.dims[k]);
-        if (n > b.data.size() / min_bytes_per_node) return false;
         total_nodes += n;
-        if (total_nodes > b.data.size() / min_bytes_per_node) return false;
+        if (total_nodes > max_nodes) return false;
     }
     offset += 12 * blocks + (markers ? 4 : 0);
     h.data_offset = offset;

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "io/io_util.hpp"
 
@@ -119,6 +120,9 @@ private:
     bool have_cell_types_ = false;
 
     std::vector<ScalarField> fields_;
+    std::set<std::string> field_names_; // a linear search per field made 10^5 FIELD arrays take minutes
+    // Count of the first POINT_DATA section, which may come before POINTS; npos until then.
+    std::size_t point_data_count_ = std::string::npos;
 
     void note(const std::string& line) {
         if (notes_) notes_->push_back(line);
@@ -303,6 +307,9 @@ void VtkReader::read_header() {
 void VtkReader::read_points(const HeaderLine& h) {
     if (have_points_) fail_line(h.pos, "second POINTS section");
     const std::size_t n = count_token(h, 1, "number of points");
+    if (point_data_count_ != std::string::npos && n != point_data_count_) {
+        fail_line(h.pos, "POINTS " + std::to_string(n) + " does not match the earlier POINT_DATA " + std::to_string(point_data_count_));
+    }
     const DataType type = type_token(h, 2);
     check_room(n, 3, type, "POINTS");
     points_pos_ = s_.pos();
@@ -432,13 +439,11 @@ void VtkReader::add_field(std::string name, std::vector<float> values) {
     std::size_t bad = 0;
     for (float v : values) bad += !std::isfinite(v);
     if (bad) note("field \"" + name + "\": " + io::with_commas(bad) + " non-finite values");
-    for (const ScalarField& f : fields_) {
-        if (f.name == name) {
-            note("duplicate field name \"" + name + "\": the later one is renamed");
-            name += "_" + std::to_string(fields_.size());
-            break;
-        }
+    if (field_names_.count(name)) {
+        note("duplicate field name \"" + name + "\": the later one is renamed");
+        name += "_" + std::to_string(fields_.size());
     }
+    field_names_.insert(name);
     fields_.push_back(ScalarField{std::move(name), std::move(values)});
 }
 
@@ -486,6 +491,10 @@ void VtkReader::read_attributes(const HeaderLine& section, bool point_data) {
     if (point_data && have_points_ && n != coords_.size() / 3) {
         fail_line(section.pos, "POINT_DATA " + std::to_string(n) + " does not match the " + std::to_string(coords_.size() / 3) + " points");
     }
+    if (point_data && point_data_count_ != std::string::npos && n != point_data_count_) {
+        fail_line(section.pos, "POINT_DATA " + std::to_string(n) + " does not match the earlier POINT_DATA " + std::to_string(point_data_count_));
+    }
+    if (point_data) point_data_count_ = n;
     if (!point_data && have_cells_ && n != cell_offsets_.size() - 1) {
         fail_line(section.pos, "CELL_DATA " + std::to_string(n) + " does not match the " + std::to_string(cell_offsets_.size() - 1) + " cells");
     }
@@ -507,11 +516,11 @@ void VtkReader::read_attributes(const HeaderLine& section, bool point_data) {
             if (components < 1 || components > 4) fail_line(h.pos, "SCALARS \"" + name + "\": component count must be 1 to 4");
             HeaderLine table;
             accept_line("LOOKUP_TABLE", table);
+            check_room(n, components, type, "SCALARS \"" + name + "\"");
             if (!store) {
                 skip_values(n * components, type, "SCALARS \"" + name + "\"");
                 continue;
             }
-            check_room(n, components, type, "SCALARS \"" + name + "\"");
             const std::vector<double> values = read_values(n * components, type, "SCALARS \"" + name + "\"");
             for (std::size_t c = 0; c < components; ++c) {
                 std::vector<float> out(n);

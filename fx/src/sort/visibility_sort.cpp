@@ -61,7 +61,7 @@ const std::vector<SortMethod>& all_sort_methods() {
     return methods;
 }
 
-VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method) : mesh_(mesh), method_(method) {
+VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method) : method_(method) {
     const auto t0 = std::chrono::steady_clock::now();
     check_vertex_indices(mesh);
     switch (method) {

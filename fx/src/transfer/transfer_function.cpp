@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -21,6 +22,19 @@ std::string number(double v) {
     o.precision(17);
     o << v;
     return o.str();
+}
+
+// A JSON value for an error message, at most ~60 characters. Arrays are shown only when flat
+// and short: dump() recurses once per nesting level, and a file of a million '[' would
+// overflow the stack while the message is being built.
+std::string brief(const nlohmann::json& v) {
+    if (v.is_object()) return "an object";
+    if (v.is_array()) {
+        const bool flat = std::none_of(v.begin(), v.end(), [](const nlohmann::json& e) { return e.is_structured(); });
+        if (!flat || v.size() > 8) return "an array of " + std::to_string(v.size()) + (v.size() == 1 ? " entry" : " entries");
+    }
+    const std::string s = v.dump();
+    return s.size() > 60 ? s.substr(0, 57) + "..." : s;
 }
 
 // Every rule of the format, in one place; `where` prefixes each message ("fire.json: ").
@@ -102,10 +116,10 @@ TransferFunction TransferFunction::parse_json(std::string_view text, const std::
     for (std::size_t i = 0; i < pts->size(); ++i) {
         const nlohmann::json& e = (*pts)[i];
         const std::string at = where + "points[" + std::to_string(i) + "]: ";
-        if (!e.is_array() || e.size() != 5) throw Error(at + "expected 5 numbers [s, r, g, b, sigma], got " + e.dump());
+        if (!e.is_array() || e.size() != 5) throw Error(at + "expected 5 numbers [s, r, g, b, sigma], got " + brief(e));
         double v[5];
         for (std::size_t k = 0; k < 5; ++k) {
-            if (!e[k].is_number()) throw Error(at + names[k] + " is not a number (" + e[k].dump() + ")");
+            if (!e[k].is_number()) throw Error(at + names[k] + " is not a number (" + brief(e[k]) + ")");
             v[k] = e[k].get<double>(); // 1e999 parses to inf; validate() rejects it
         }
         points.push_back({v[0], glm::dvec3(v[1], v[2], v[3]), v[4]});
@@ -118,6 +132,8 @@ TransferFunction TransferFunction::parse_json(std::string_view text, const std::
 }
 
 TransferFunction TransferFunction::read_json(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a folder, not a transfer function file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open transfer function file");
     std::ostringstream text;
@@ -149,7 +165,15 @@ TransferFunction TransferFunction::rescaled(double lo, double hi) const {
     // lo > hi mirrors the function; reversing the list also swaps the two entries of each step,
     // which is what "value from below" / "from above" need after the mirror.
     if (lo > hi) std::reverse(out.begin(), out.end());
-    return TransferFunction(std::move(out), false);
+    // Points closer together than the new range resolves land on one s (s = 0, 1, 1, 2e94
+    // onto [1e-7, 2e-7]); three there would not be a valid step. Keep the first and the last
+    // of such a run: the values from below and from above, what the squeezed function tends to.
+    std::vector<TransferPoint> kept;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const bool inside_run = i > 0 && i + 1 < out.size() && out[i - 1].s == out[i].s && out[i + 1].s == out[i].s;
+        if (!inside_run) kept.push_back(out[i]);
+    }
+    return TransferFunction(std::move(kept), false);
 }
 
 glm::dvec3 TransferFunction::color(double s) const { return evaluate(points_, s).color; }

@@ -58,6 +58,9 @@ struct HeightFieldOptions {
 // images ("not greyscale"), a size that is not (2^n + 1)² without `pad`, fewer than 3 samples
 // per side, more than 16385, or options that are not finite and positive where required.
 HeightField read_height_field_png(const std::string& path, const HeightFieldOptions& options = {});
+// The same from the bytes of a PNG file in memory (fuzzers, archives); `name` is used in messages.
+HeightField parse_height_field_png(const std::vector<char>& bytes, const std::string& name,
+                                   const HeightFieldOptions& options = {});
 
 // A height (or thickness) at world (x, y). Generators must be deterministic.
 using HeightGenerator = std::function<double(double x, double y)>;

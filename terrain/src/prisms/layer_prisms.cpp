@@ -80,7 +80,10 @@ HeightField make_valley_fog_map(const HeightField& ground, double level, double 
     // Reference height per sample: 0, or the ground's mean over ±r samples (separable box
     // filter with running sums, clamped at the border).
     std::vector<double> reference(std::size_t(n) * std::size_t(n), 0.0);
-    const int r = int(std::floor(radius / ground.spacing));
+    // A radius beyond the grid averages the whole grid; clamping first keeps the conversion to
+    // int defined for any finite radius (1e300 / spacing does not fit in an int).
+    const double samples = std::floor(radius / ground.spacing);
+    const int r = samples >= double(n) ? n : int(samples);
     if (r > 0) {
         std::vector<double> rows(reference.size());
         auto box = [&](auto get, auto set) {

@@ -293,6 +293,8 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         doc = json::parse(text.begin(), text.end());
     } catch (const json::parse_error& e) {
         throw fx::Error(source + ": JSON syntax error at byte " + std::to_string(e.byte) + ": " + e.what());
+    } catch (const json::exception& e) { // a number too large for a double (1e999)
+        throw fx::Error(source + ": JSON error: " + e.what());
     }
     Section root(doc, "", source);
     Scene scene;
