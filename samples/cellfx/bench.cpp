@@ -27,7 +27,8 @@ int run_bench(const std::vector<std::string>& args) {
                   "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE\n"
                   "  accuracy   every path and flavour against the 4x4 scan-line reference: ms per frame, RMSE, max, PSNR;\n"
                   "             writes CSV, Markdown and a plot; options: --out DIR (out/accuracy), --frames N (5),\n"
-                  "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside, --fem-cells N (1000000), --blunt-fin DIR");
+                  "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside, --fem-cells N (1000000),\n"
+                  "             --blunt-fin DIR, --images (every flavour's frame as PNG)");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());

@@ -354,13 +354,13 @@ glm::dvec3 displayed(const glm::vec4& p, const glm::dvec3& background) {
     return glm::dvec3(p.r, p.g, p.b) + (1.0 - double(p.a)) * background;
 }
 
-struct Error {
+struct ImageError {
     double rmse = 0.0, max_abs = 0.0, psnr = 0.0;
     bool finite = true;
 };
 
-Error image_error(const fx::Image& actual, const fx::Image& reference, const glm::dvec3& background) {
-    Error e;
+ImageError image_error(const fx::Image& actual, const fx::Image& reference, const glm::dvec3& background) {
+    ImageError e;
     double sum = 0.0;
     for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
         const glm::vec4& a = actual.pixels[i];
@@ -405,8 +405,8 @@ struct Row {
     int family = 0, width = 0, height = 0, frames = 0;
     std::size_t cells = 0;
     double frame_ms = 0.0, gpu_ms = -1.0, first_ms = 0.0;
-    Error error;       // against the 4×4 reference
-    Error point_error; // against the 1-sample reference
+    ImageError error;       // against the 4×4 reference
+    ImageError point_error; // against the 1-sample reference
     double reference_peak = 0.0;
 };
 
@@ -515,9 +515,9 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
     std::ofstream gp(dir + "/accuracy.gp");
     gp << "# Written by cellfx bench accuracy; run with: gnuplot accuracy.gp (in this folder)\n"
        << "set terminal pngcairo size " << 560 * columns << "," << 470 * rows_n + 40 << " font 'DejaVu Sans,10'\n"
-       << "set logscale xy\nset format y '10^{%L}'\nset format x '%g'\n"
+       << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\n"
        << "set grid xtics ytics lc rgb '#dddddd'\nset xlabel 'ms per frame (median)'\n"
-       << "set offsets graph 0.05, graph 0.5, graph 0.15, graph 0.15\n"
+       << "set offsets graph 0.05, graph 0.35, graph 0.15, graph 0.15\n"
        << "set key top left font ',8' samplen 1 spacing 0.9 box opaque\n"
        << "set linetype 1 lc rgb '#000000'\n" // scanline
        << "set linetype 2 lc rgb '#d62728'\n" // pcp
