@@ -36,6 +36,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
@@ -104,6 +105,11 @@ public:
     // rebuilt every frame (terrain LOD prisms). The function's normalized range follows the new
     // field. Throws like the constructor.
     void set_mesh(const CellMesh& mesh, const std::string& scalar_name);
+    // Replaces the values of the field in use (one per mesh point), keeping the geometry: for
+    // scalars animated on a fixed mesh (a campfire's noise), far cheaper than set_mesh. A
+    // normalized function's range follows the new values. Throws fx::Error for a wrong count or
+    // a non-finite value (nothing is changed then).
+    void set_scalars(const std::vector<float>& values);
 
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});

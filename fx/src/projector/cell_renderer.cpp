@@ -130,6 +130,23 @@ void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name
     set_transfer_function(impl_->source_tf);
 }
 
+void CellRenderer::set_scalars(const std::vector<float>& values) {
+    Impl& m = *impl_;
+    if (values.size() != m.geometry.scalars.size())
+        throw Error("cell renderer: set_scalars got " + std::to_string(values.size()) + " values for " +
+                    std::to_string(m.geometry.scalars.size()) + " points");
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i])) throw Error("cell renderer: set_scalars: value " + std::to_string(i) + " is not finite");
+    m.geometry.scalars = values;
+    std::vector<glm::vec4> point_data(std::max<std::size_t>(values.size(), 1));
+    for (std::size_t i = 0; i < values.size(); ++i) point_data[i] = glm::vec4(m.geometry.positions[i], values[i]);
+    glNamedBufferSubData(m.points.id(), 0, GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data());
+    FX_GL_CHECK("set_scalars upload");
+    m.field_range = values.empty() ? ScalarRange{0.0f, 0.0f} : ScalarRange{values[0], values[0]};
+    for (float v : values) m.field_range.lo = std::min(m.field_range.lo, v), m.field_range.hi = std::max(m.field_range.hi, v);
+    if (m.source_tf.normalized()) set_transfer_function(m.source_tf); // its tables follow the range
+}
+
 void CellRenderer::Impl::upload_mesh(const CellMesh& source, const std::string& scalar_name) {
     Impl& m = *this;
     const ScalarField* field = nullptr;
