@@ -8,11 +8,12 @@
 // centre of the fire's base, metres — at time t:
 //     r(z)  = base_radius · (1 − z/height)^taper             flame radius, tapering to the tip
 //     E     = max(0, 1 − (ρ/r(z))²) · (1 − z/height)         envelope: ρ = √(x² + y²); 0 above the tip
-//     n     = fBm of simplex4 at (x, y, z − rise_speed·t, flicker_rate·t / noise_frequency)
-//             (noise_octaves, noise_frequency, seed) ∈ [−1, 1]
+//     n     = fBm of simplex4 at (x, y, (z − rise_speed·t) / noise_stretch,
+//             flicker_rate·t / noise_frequency) (noise_octaves, noise_frequency, seed) ∈ [−1, 1]
 //     T     = clamp(intensity · E · (1 + turbulence · n), 0, 1)
-// The noise field rises through the envelope at rise_speed (rising flicker) while its 4th axis
-// advances at flicker_rate lattice cells per second (the shapes boil). Map T with a fire
+// The noise field rises through the envelope at rise_speed (rising flicker), its features
+// noise_stretch times taller than wide (tongues), while its 4th axis advances at flicker_rate
+// lattice cells per second (the shapes boil). Where turbulence·n < −1 the flame has gaps. Map T with a fire
 // transfer function (content/transfer_functions/fire.json); scalar_range() is [0, 1].
 //
 // Cost: the grid's cells whose eight nodes all have E = 0 are never built (the envelope does not
@@ -39,9 +40,10 @@ struct CampfireParams {
     double taper = 0.7;           // 0: a column, 1: a cone, > 1: a spike; ≥ 0
     int cells_across = 16;        // hexahedra along x and along y (2..256)
     int cells_up = 20;            // hexahedra along z (1..256)
-    double intensity = 1.5;       // envelope gain; > 1 saturates the core at T = 1; ≥ 0
-    double turbulence = 1.6;      // how strongly the noise breaks the envelope up; ≥ 0
-    double noise_frequency = 2.2; // cycles per metre of the first octave; > 0
+    double intensity = 1.4;       // envelope gain; > 1 saturates the core at T = 1; ≥ 0
+    double turbulence = 4.0;      // how strongly the noise breaks the envelope up; ≥ 0
+    double noise_frequency = 3.0; // cycles per metre of the first octave (across); > 0
+    double noise_stretch = 2.5;   // vertical elongation of the noise features; > 0
     int noise_octaves = 3;        // 1..8
     double rise_speed = 1.1;      // m/s the flicker rises; finite
     double flicker_rate = 0.9;    // noise cells per second along the time axis; finite

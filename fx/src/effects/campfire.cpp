@@ -31,6 +31,7 @@ void validate(const CampfireParams& p) {
     check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
     check(p.turbulence >= 0.0 && std::isfinite(p.turbulence), "turbulence", "must be ≥ 0");
     check(p.noise_frequency > 0.0 && std::isfinite(p.noise_frequency), "noise_frequency", "must be positive");
+    check(p.noise_stretch > 0.0 && std::isfinite(p.noise_stretch), "noise_stretch", "must be positive");
     check(p.noise_octaves >= 1 && p.noise_octaves <= 8, "noise_octaves", "must be in 1..8");
     check(std::isfinite(p.rise_speed), "rise_speed", "is not finite");
     check(std::isfinite(p.flicker_rate), "flicker_rate", "is not finite");
@@ -61,7 +62,7 @@ Fractal fractal_of(const CampfireParams& p) {
 }
 
 glm::dvec4 noise_point(const CampfireParams& p, const glm::dvec3& q, double time) {
-    return {q.x, q.y, q.z - p.rise_speed * time, p.flicker_rate * time / p.noise_frequency};
+    return {q.x, q.y, (q.z - p.rise_speed * time) / p.noise_stretch, p.flicker_rate * time / p.noise_frequency};
 }
 
 float temperature(const CampfireParams& p, double e, float n) {

@@ -32,7 +32,7 @@
 //                    "near": 5, "far": 60000},
 //       "camera_path": {"loop": false, "keys": [{"time": 0, "eye": [x, y, z], "target": [x, y, z]}, ...]},
 //       "render":   {"width": 1024, "height": 768, "background": [r, g, b]},
-//       "surface":  {"sun": [x, y, z], "ambient": 0.35}
+//       "surface":  {"sun": [x, y, z], "ambient": 0.35, "ramp": [[0, [r, g, b]], ..., [1, [r, g, b]]]}
 //     }
 //     NOISE = {"amplitude": 40, "offset": 0, "frequency": 0.002, "octaves": 4, "lacunarity": 2,
 //              "gain": 0.5, "seed": 1}   (fBm of 2-D gradient noise: offset + amplitude·fbm(x, y))

@@ -313,6 +313,7 @@ fx::CampfireParams parse_campfire(Section& s) {
     p.intensity = non_negative(s, "intensity", p.intensity);
     p.turbulence = non_negative(s, "turbulence", p.turbulence);
     p.noise_frequency = s.positive("noise_frequency", p.noise_frequency);
+    p.noise_stretch = s.positive("noise_stretch", p.noise_stretch);
     p.noise_octaves = bounded(s, "noise_octaves", p.noise_octaves, 1, 8);
     p.rise_speed = s.number("rise_speed", p.rise_speed);
     p.flicker_rate = s.number("flicker_rate", p.flicker_rate);
@@ -494,6 +495,29 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         if (glm::dvec3(0.0) == scene.surface.sun_direction) throw s.error("sun", "must not be zero");
         scene.surface.ambient = s.number("ambient", scene.surface.ambient);
         if (scene.surface.ambient < 0.0 || scene.surface.ambient > 1.0) throw s.error("ambient", "must be in [0, 1]");
+        if (s.has("ramp")) {
+            // [[fraction, [r, g, b]], ...]: colour by height fraction, 1 to 8 stops, fractions rising.
+            const json& ramp = s.at("ramp");
+            const std::string bad = "expected 1 to 8 stops [fraction, [r, g, b]] with fractions in [0, 1], not decreasing";
+            if (!ramp.is_array() || ramp.empty() || ramp.size() > 8) throw s.error("ramp", bad);
+            scene.surface.ramp.clear();
+            for (std::size_t k = 0; k < ramp.size(); ++k) {
+                const json& stop = ramp[k];
+                const std::string key = "ramp[" + std::to_string(k) + "]";
+                if (!stop.is_array() || stop.size() != 2 || !stop[0].is_number() || !stop[1].is_array() || stop[1].size() != 3)
+                    throw s.error(key, bad);
+                const double f = stop[0].get<double>();
+                glm::dvec3 c;
+                for (int i = 0; i < 3; ++i) {
+                    if (!stop[1][i].is_number() || !std::isfinite(stop[1][i].get<double>()) || stop[1][i].get<double>() < 0.0)
+                        throw s.error(key, "colour components must be finite and ≥ 0");
+                    c[i] = stop[1][i].get<double>();
+                }
+                if (!(f >= 0.0 && f <= 1.0) || (!scene.surface.ramp.empty() && f < scene.surface.ramp.back().first))
+                    throw s.error(key, bad);
+                scene.surface.ramp.emplace_back(f, c);
+            }
+        }
         s.finish();
     }
     root.finish();
