@@ -84,7 +84,7 @@ private:
     bool dirty_mesh_ = true, dirty_scalars_ = true;
     double sampled_time_;
     std::vector<std::uint32_t> active_;   // mesh points with E > 0
-    std::vector<float> envelope_;         // E at those points
+    std::vector<double> envelope_;        // E at those points
     std::vector<glm::dvec4> noise_points_; // scratch: noise coordinates
     std::vector<float> noise_values_;      // scratch
 };

@@ -126,7 +126,7 @@ void Campfire::build() {
             mesh.points.push_back(node_position(i, j, k));
             if (e[id] > 0.0) {
                 active_.push_back(point_of[id]);
-                envelope_.push_back(float(e[id]));
+                envelope_.push_back(e[id]);
             }
         }
         return point_of[id];

@@ -11,20 +11,19 @@ namespace terrain {
 
 namespace {
 
-// Box of the layer between `bottom` and bottom + thickness over the field's square, counting
-// only samples with thickness > 0 in z (prisms stand only where there is thickness); empty when
-// there is none.
+// Box of the layer between `bottom` and bottom + thickness over the field's square; empty when
+// the thickness is zero everywhere (no prism can stand). Every prism vertex is a geomorphed
+// blend of samples' bottoms and tops, so it lies within the range of all samples' bottoms and
+// tops — a vertex without thickness of its own still belongs to its neighbours' prisms.
 fx::Bounds layer_bounds(const HeightField& bottom, const HeightField& thickness) {
     double lo = HUGE_VAL, hi = -HUGE_VAL;
+    bool any = false;
     for (std::size_t k = 0; k < bottom.heights.size(); ++k) {
-        if (!(thickness.heights[k] > 0.0f)) continue;
+        any = any || thickness.heights[k] > 0.0f;
         lo = std::min(lo, double(bottom.heights[k]));
-        hi = std::max(hi, double(bottom.heights[k]) + thickness.heights[k]);
+        hi = std::max(hi, double(bottom.heights[k]) + std::max(0.0f, thickness.heights[k]));
     }
-    if (!(lo <= hi)) return fx::Bounds{glm::dvec3(1.0), glm::dvec3(-1.0)};
-    // Geomorphed vertices interpolate between samples, so they stay inside the sample range in
-    // z; a prism may reach a neighbour without thickness, so z spans all bottoms too.
-    lo = std::min(lo, double(bottom.min_height()));
+    if (!any) return fx::Bounds{glm::dvec3(1.0), glm::dvec3(-1.0)};
     return {glm::dvec3(bottom.origin.x, bottom.origin.y, lo),
             glm::dvec3(bottom.origin.x + bottom.extent(), bottom.origin.y + bottom.extent(), hi)};
 }
