@@ -436,3 +436,28 @@ TEST_CASE("Ground fog and aurora effects' frames match the scan-line reference",
         fx::TransferFunction({{0.0, {0.6, 0.1, 0.2}, 0.0}, {1.0, {0.3, 1.0, 0.5}, 0.002}}, true).rescaled(0.0, 1.0);
     effects_test::effect_vs_scanline("effect_aurora", aurora, glow, sky, fx::RenderPath::PcpExact, 10);
 }
+
+TEST_CASE("CellRenderer::set_scalars draws what a renderer made with the new scalars draws", "[gl][effects]") {
+    fx_test::gl_context();
+    fx::Campfire fire;
+    const fx::Camera cam = look({1.8, -2.2, 1.2}, {0, 0, 0.6}, 45.0);
+    fire.update(view_at(0.0, cam));
+    // A normalized function: its tables must follow the new range too.
+    const fx::TransferFunction tf = fx::TransferFunction::read_json(fx_test::source_path("content/transfer_functions/fire.json"));
+    fx::CellRenderer reused(fire.mesh(), fire.scalar_name(), tf);
+    reused.render_to_image(cam, 64, 64, fx::RenderPath::PcpExact);
+    fire.update(view_at(0.6, cam));
+    reused.set_scalars(fire.mesh().scalars[0].values);
+    fx::CellRenderer fresh(fire.mesh(), fire.scalar_name(), tf);
+    for (fx::RenderPath path : fx::kRenderPaths) {
+        INFO(fx::render_path_name(path));
+        const fx_test::ImageDifference d = fx_test::compare_images(reused.render_to_image(cam, 64, 64, path),
+                                                                   fresh.render_to_image(cam, 64, 64, path));
+        CHECK(d.max_delta == 0.0f);
+    }
+    fx_test::require_no_gl_error();
+    CHECK_THROWS_WITH(reused.set_scalars({1.0f, 2.0f}), Catch::Contains("set_scalars got 2 values"));
+    std::vector<float> bad = fire.mesh().scalars[0].values;
+    bad[7] = NAN;
+    CHECK_THROWS_WITH(reused.set_scalars(bad), Catch::Contains("value 7 is not finite"));
+}

@@ -173,7 +173,8 @@ void CellRenderer::Impl::upload_mesh(const CellMesh& source, const std::string& 
         const auto& tri = m.geometry.triangles[t];
         triangle_data[t] = {glm::uvec4(tri[0], tri[1], tri[2], m.geometry.triangle_cell[t]), m.geometry.triangle_planes[t]};
     }
-    m.points = gl::make_buffer(GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data());
+    // Dynamic storage: set_scalars rewrites it in place.
+    m.points = gl::make_buffer(GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data(), GL_DYNAMIC_STORAGE_BIT);
     m.triangles = gl::make_buffer(GLsizeiptr(triangle_data.size() * sizeof(GpuTriangle)), triangle_data.data());
     m.cells = gl::make_buffer(GLsizeiptr(m.geometry.cell_first_triangle.size() * sizeof(std::uint32_t)),
                               m.geometry.cell_first_triangle.data());
