@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -119,5 +120,120 @@ inline FrameCheck effect_vs_scanline(const std::string& name, const fx::Effect& 
     fx_test::require_no_gl_error();
     return check_frame(name, actual, expected, path, cells_on_ray, classic_rel);
 }
+
+} // namespace effects_test
+
+namespace effects_test {
+
+// GL state a game typically leaves set between its own draws, read back as numbers (what
+// cellfx must leave as it found it), texture units 0–3 and 5 included.
+inline std::vector<double> host_state() {
+    std::vector<double> v;
+    auto ints = [&v](GLenum name, int count) {
+        GLint x[4] = {};
+        glGetIntegerv(name, x);
+        for (int i = 0; i < count; ++i) v.push_back(x[i]);
+    };
+    auto floats = [&v](GLenum name, int count) {
+        GLfloat x[4] = {};
+        glGetFloatv(name, x);
+        for (int i = 0; i < count; ++i) v.push_back(x[i]);
+    };
+    for (GLenum cap : {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_SCISSOR_TEST, GL_STENCIL_TEST}) v.push_back(glIsEnabled(cap));
+    ints(GL_DEPTH_FUNC, 1);
+    ints(GL_DEPTH_WRITEMASK, 1);
+    ints(GL_BLEND_SRC_RGB, 1);
+    ints(GL_BLEND_DST_RGB, 1);
+    ints(GL_BLEND_EQUATION_RGB, 1);
+    ints(GL_CULL_FACE_MODE, 1);
+    ints(GL_VIEWPORT, 4);
+    ints(GL_SCISSOR_BOX, 4);
+    ints(GL_CURRENT_PROGRAM, 1);
+    ints(GL_VERTEX_ARRAY_BINDING, 1);
+    ints(GL_ARRAY_BUFFER_BINDING, 1);
+    ints(GL_DRAW_FRAMEBUFFER_BINDING, 1);
+    ints(GL_READ_FRAMEBUFFER_BINDING, 1);
+    ints(GL_UNPACK_ALIGNMENT, 1);
+    ints(GL_PACK_ALIGNMENT, 1);
+    ints(GL_SHADER_STORAGE_BUFFER_BINDING, 1);
+    floats(GL_COLOR_CLEAR_VALUE, 4);
+    ints(GL_ACTIVE_TEXTURE, 1);
+    GLint active = 0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    for (int unit : {0, 1, 2, 3, 5}) {
+        glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        ints(GL_TEXTURE_BINDING_2D, 1);
+        ints(GL_SAMPLER_BINDING, 1);
+    }
+    glActiveTexture(GLenum(active));
+    for (GLuint i = 0; i < 4; ++i) {
+        GLint b = 0;
+        glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, i, &b);
+        v.push_back(b);
+    }
+    return v;
+}
+
+// A game's typical leftovers: its own VAO, buffer, textures on units 0–3 and 5, a sampler,
+// depth test with an unusual function, blending, culling, odd viewport/scissor, pack state.
+struct HostLeftovers {
+    GLuint vao = 0, buffer = 0, textures[5] = {}, sampler = 0;
+    HostLeftovers() {
+        glCreateVertexArrays(1, &vao);
+        glCreateBuffers(1, &buffer);
+        glCreateTextures(GL_TEXTURE_2D, 5, textures);
+        glCreateSamplers(1, &sampler);
+        glBindVertexArray(vao);
+        glBindBuffer(GL_ARRAY_BUFFER, buffer);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, buffer);
+        const int units[5] = {0, 1, 2, 3, 5};
+        for (int k = 0; k < 5; ++k) {
+            glActiveTexture(GLenum(GL_TEXTURE0 + units[k]));
+            glBindTexture(GL_TEXTURE_2D, textures[k]);
+        }
+        glBindSampler(3, sampler);
+        glActiveTexture(GL_TEXTURE2);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_GEQUAL);
+        glDepthMask(GL_FALSE);
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_FRONT);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_COLOR, GL_ONE_MINUS_DST_ALPHA);
+        glBlendEquation(GL_FUNC_REVERSE_SUBTRACT);
+        glViewport(3, 5, 7, 11);
+        glScissor(1, 2, 3, 4);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+        glPixelStorei(GL_PACK_ALIGNMENT, 8);
+        glClearColor(0.7f, 0.1f, 0.6f, 0.5f);
+    }
+    ~HostLeftovers() {
+        glBindVertexArray(0);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
+        const int units[5] = {0, 1, 2, 3, 5};
+        for (int unit : units) {
+            glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+            glBindTexture(GL_TEXTURE_2D, 0);
+        }
+        glBindSampler(3, 0);
+        glActiveTexture(GL_TEXTURE0);
+        glDisable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glDisable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ZERO);
+        glBlendEquation(GL_FUNC_ADD);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        glClearColor(0, 0, 0, 0);
+        glDeleteSamplers(1, &sampler);
+        glDeleteTextures(5, textures);
+        glDeleteBuffers(1, &buffer);
+        glDeleteVertexArrays(1, &vao);
+    }
+};
 
 } // namespace effects_test
