@@ -20,7 +20,10 @@ int run_bench(const std::vector<std::string>& args) {
                   "                      --mesh all|grid|jittered|c-shape (all)\n"
                   "  terrain    continuous LOD along a flight (1025², 2049²), pixels changed vs full resolution,\n"
                   "             fog valley fps per path; options: --sizes 1025,2049, --lod-frames N (300),\n"
-                  "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps");
+                  "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps\n"
+                  "  effects    shipped effect scenes (campfire, searchlight, laser, fog_valley, aurora) per render path:\n"
+                  "             ms/frame, GPU ms per stage, verified against the scan-line reference; options:\n"
+                  "             --scenes a,b, --paths a,b, --frames N (8), --size WxH, --skip-verify");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
@@ -28,7 +31,8 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "pcp") return bench_pcp(rest);
     if (args[0] == "sort") return bench_sort(rest);
     if (args[0] == "terrain") return bench_terrain(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort or terrain)");
+    if (args[0] == "effects") return bench_effects(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain or effects)");
 }
 
 } // namespace cellfx_cli

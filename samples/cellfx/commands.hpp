@@ -22,6 +22,9 @@ int bench_pcp(const std::vector<std::string>& args);
 // `cellfx bench terrain`: continuous LOD, pixels changed, fog valley fps (Roettger et al. 1998, §5).
 int bench_terrain(const std::vector<std::string>& args);
 
+// `cellfx bench effects`: the shipped effect scenes per render path, GPU-timed per stage, verified.
+int bench_effects(const std::vector<std::string>& args);
+
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);
 

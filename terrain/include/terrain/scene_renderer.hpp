@@ -155,6 +155,8 @@ public:
     // Whether cellfx draws the terrain surface (scene.draw_terrain to start with).
     void set_terrain_drawn(bool drawn);
     bool terrain_drawn() const;
+    // The background of the opaque frames (render(camera, viewport), render_to_image).
+    void set_background(const glm::dvec3& rgb);
     // GPU timing of every stage (GL_TIME_ELAPSED queries, waiting for each result: for
     // benchmarks, not games; none of the host's timer queries may be active then).
     void set_timing(bool timing);

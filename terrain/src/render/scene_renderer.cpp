@@ -469,6 +469,10 @@ void SceneRenderer::set_terrain_drawn(bool drawn) {
     m.draw_terrain = drawn;
 }
 bool SceneRenderer::terrain_drawn() const { return impl_->draw_terrain; }
+void SceneRenderer::set_background(const glm::dvec3& rgb) {
+    if (!std::isfinite(rgb.r) || !std::isfinite(rgb.g) || !std::isfinite(rgb.b)) throw fx::Error("scene: the background is not finite");
+    impl_->scene.background = rgb;
+}
 void SceneRenderer::set_timing(bool timing) { impl_->timing = timing; }
 double SceneRenderer::time() const { return impl_->time; }
 void SceneRenderer::set_time(double seconds) {
