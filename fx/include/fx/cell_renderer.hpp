@@ -71,8 +71,9 @@ struct CellRenderOptions {
     // the viewport. pcp-exact ends each ray's segment at the scene depth (exact: the scalar is
     // interpolated to the cut); pcp clamps every face's depth d to it, so the α difference is the
     // length in front of the scene (colour stays the per-cell trapezoid estimate); mip drops the
-    // fragments behind it (a cell cut by a surface shows its entry face's maximum). The texture
-    // must not be attached to the framebuffer render() draws into; it is read on texture unit 3.
+    // fragments behind it (a cell cut by a surface shows its entry face's maximum). It is read on
+    // texture unit 3 only while drawing into the renderer's own targets and unbound before the
+    // resolve, so it may be attached to the framebuffer render() draws into (a game's usual set-up).
     unsigned int scene_depth = 0;
 };
 

@@ -150,8 +150,11 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
     if (!s.has(key)) return fallback;
     const std::string name = s.string(key);
     fx::RenderPath path;
-    if (!fx::parse_render_path(name, path))
-        throw s.error(key, "unknown render path '" + name + "' (expected pcp, pcp-exact, mip)");
+    if (!fx::parse_render_path(name, path)) {
+        std::string names;
+        for (fx::RenderPath p : fx::kRenderPaths) names += std::string(names.empty() ? "" : ", ") + fx::render_path_name(p);
+        throw s.error(key, "unknown render path '" + name + "' (expected " + names + ")");
+    }
     return path;
 }
 
