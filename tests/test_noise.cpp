@@ -535,7 +535,7 @@ TEST_CASE("noise is exactly zero at the lattice points", "[noise]") {
     }
 }
 
-TEST_CASE("Perlin's lattice repeats every 2^32 cells; huge and non-finite coordinates stay finite", "[noise]") {
+TEST_CASE("Perlin's lattice repeats every 2^32 cells, and huge and non-finite coordinates stay finite", "[noise]") {
     const fx::Noise noise(8);
     const double period = 4294967296.0;
     std::mt19937_64 rng(3);
@@ -711,7 +711,7 @@ TEST_CASE("batch fills give exactly the scalar values, with every instruction se
     if (checked == 1) WARN("this CPU runs only the baseline kernels; the AVX2 ones were not checked");
 }
 
-TEST_CASE("one octave of fBm is the basis; the octave rules are as documented", "[noise]") {
+TEST_CASE("one octave of fBm is the basis, and the octave rules are as documented", "[noise]") {
     using namespace fx::noise_detail;
     std::mt19937_64 rng(12);
     for (const Basis& b : all_bases()) {

@@ -61,7 +61,7 @@ std::vector<std::pair<std::string, fx::Camera>> watertight_views() {
 
 } // namespace
 
-TEST_CASE("each face is emitted once; surfaces are the faces without a neighbour", "[scanline]") {
+TEST_CASE("each face is emitted once, and surfaces are the faces without a neighbour", "[scanline]") {
     const fx::CellMesh mesh = box_mesh(4);
     const fx::ScanlineRenderer r(mesh);
     // 4x4x4 hexes: 3·4·4·5 = 240 distinct faces, 6·16 = 96 on the surface, 2 triangles each.
