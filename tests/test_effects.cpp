@@ -171,7 +171,7 @@ TEST_CASE("Campfire: noise is sampled only when time advanced, only at its own g
     CHECK(frozen.counters().scalar_updates == 0);
 }
 
-TEST_CASE("Campfire: parameter changes rebuild only what they change; bad ones are named", "[effects][campfire]") {
+TEST_CASE("Campfire: parameter changes rebuild only what they change, and bad ones are named", "[effects][campfire]") {
     fx::Campfire fire;
     fire.update(view_at(0.0));
     fx::CampfireParams p = fire.params();
