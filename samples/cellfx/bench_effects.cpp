@@ -9,6 +9,8 @@
 // update + render to glFinish) and GPU milliseconds, and the medians of the stages — update
 // (LOD, effect simulation), upload (set_mesh / set_scalars), terrain surface, effects, composite.
 //
+// A first row per scene runs the same frames with every effect switched off (the terrain alone):
+// nothing is simulated or drawn for them, so the difference is what the effects cost.
 // Verified after timing, so that a broken path cannot look fast: the last timed frame is finite
 // and differs from the same frame without effects; then the same frame's effects alone (terrain
 // not drawn, over black) are compared with the scan-line reference of the effects' own meshes
@@ -184,13 +186,26 @@ int bench_effects(const std::vector<std::string>& args) {
         if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
         const int w = scene.width, h = scene.height;
         const fx::Camera last_camera = camera_at(scene, kWarmup + frames - 1, kDt);
-        // The frame without effects, to prove each path draws something.
+        // The same frames with every effect switched off: what the effects cost on top (the
+        // terrain alone), and the picture that proves each path draws something.
         fx::Image bare;
         {
             terrain::SceneRenderer r(scene);
             for (const std::string& e : r.effect_names()) r.set_enabled(e, false);
-            r.set_time((kWarmup + frames - 1) * kDt);
-            bare = r.render_to_image(last_camera, w, h);
+            r.set_timing(true);
+            Row row{name, "(effects off)"};
+            std::vector<double> ms, gpu, update, surface;
+            for (int f = 0; f < kWarmup + frames; ++f) {
+                r.set_time(f * kDt);
+                terrain::FrameStats s;
+                bare = r.render_to_image(camera_at(scene, f, kDt), w, h, &s);
+                if (f < kWarmup) continue;
+                ms.push_back(s.frame_ms), gpu.push_back(std::max(s.gpu_ms, 0.0)), update.push_back(s.update_ms),
+                    surface.push_back(std::max(s.surface_gpu_ms, 0.0));
+                row.cells = s.cells_drawn, row.noise = s.noise_samples;
+            }
+            row.ms = median(ms), row.gpu = median(gpu), row.update = median(update), row.surface = median(surface);
+            print_row(row);
         }
         std::map<int, fx::Image> references; // by optical model
         for (fx::RenderPath path : paths) {
