@@ -80,28 +80,36 @@ inline fx::Image expected_image(int w, int h, const std::function<glm::vec4(int,
 }
 
 struct Difference {
-    double max = 0.0;
+    double max = 0.0;  // largest per-channel difference, at pixel (x, y)
+    double mean = 0.0; // mean per-channel difference over all pixels and channels
     int x = -1, y = -1;
     glm::vec4 actual{0.0f}, expected{0.0f};
 };
 
-// Largest per-channel difference; above `tolerance` writes NAME_actual/expected/diff.png
-// (the diff scaled so that the tolerance is 1/8 of full scale).
+// Largest and mean per-channel difference; above `tolerance` (or a mean above
+// `mean_tolerance`) writes NAME_actual/expected/diff.png (the diff scaled so that the
+// tolerance is 1/8 of full scale).
 inline Difference compare(const fx::Image& actual, const fx::Image& expected, double tolerance,
-                          const std::string& name) {
+                          const std::string& name, double mean_tolerance = kInf) {
     Difference d;
+    double total = 0.0;
     fx::Image diff(actual.width, actual.height, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
     for (int y = 0; y < actual.height; ++y) {
         for (int x = 0; x < actual.width; ++x) {
             const glm::vec4 a = actual.at(x, y), e = expected.at(x, y);
             double m = 0.0;
-            for (int c = 0; c < 4; ++c) m = std::max(m, std::abs(double(a[c]) - double(e[c])));
-            if (!(m <= d.max)) d = Difference{m, x, y, a, e};
+            for (int c = 0; c < 4; ++c) {
+                const double diff_c = std::abs(double(a[c]) - double(e[c]));
+                m = std::max(m, diff_c);
+                total += diff_c;
+            }
+            if (!(m <= d.max)) d = Difference{m, 0.0, x, y, a, e};
             const float v = static_cast<float>(std::min(1.0, m / (8.0 * tolerance)));
             diff.at(x, y) = glm::vec4(v, v, v, 1.0f);
         }
     }
-    if (!(d.max <= tolerance)) {
+    d.mean = actual.pixels.empty() ? 0.0 : total / (4.0 * static_cast<double>(actual.pixels.size()));
+    if (!(d.max <= tolerance) || !(d.mean <= mean_tolerance)) {
         auto opaque = [](fx::Image img) {
             for (glm::vec4& p : img.pixels) p.a = 1.0f;
             return img;

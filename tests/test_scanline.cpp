@@ -178,6 +178,23 @@ TEST_CASE("two intersecting grids: optical depths and emissions add where they o
     CHECK_IMAGES_CLOSE(em,
                        expected_image(w, h, [&](int x, int y) { return walk(cam.pixel_ray(x + 0.5, y + 0.5, w, h), true); }),
                        kClosedFormTolerance, "scanline_two_grids_emission");
+    // Maximum intensity: the largest c·σ of any grid the ray passes through (per channel),
+    // not of the added media.
+    fx::ScanlineOptions maximum;
+    maximum.model = fx::OpticalModel::Maximum;
+    const fx::Image mip = renderer.render(cam, w, h, mesh.scalars[0], tf, maximum);
+    std::size_t both = 0;
+    const fx::Image mip_expected = expected_image(w, h, [&](int x, int y) {
+        const fx::Ray ray = cam.pixel_ray(x + 0.5, y + 0.5, w, h);
+        const auto a = ray_box(ray, alo, ahi), b = ray_box(ray, blo, bhi);
+        glm::dvec3 m(0.0);
+        if (a.second > a.first) m = glm::max(m, ca * sa);
+        if (b.second > b.first) m = glm::max(m, cb * sb);
+        both += a.second > a.first && b.second > b.first ? 1 : 0;
+        return glm::vec4(glm::vec3(m), 0.0f);
+    });
+    CHECK(both > 100); // many rays see both grids
+    CHECK_IMAGES_CLOSE(mip, mip_expected, kClosedFormTolerance, "scanline_two_grids_mip");
 }
 
 TEST_CASE("non-convex C-shaped grid: a ray that leaves and re-enters skips the gap", "[scanline]") {

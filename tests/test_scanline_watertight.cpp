@@ -2,7 +2,12 @@
 // threads give identical frames, memory and statistics are reported.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <random>
+#include <utility>
+
 #include "fx/scanline_renderer.hpp"
+#include "scanline/scanline_fragments.hpp"
 #include "fx/synthetic_meshes.hpp"
 #include "fx/tetrahedralize.hpp"
 #include "scanline_test_support.hpp"
@@ -126,18 +131,36 @@ TEST_CASE("one and two threads give identical frames", "[scanline]") {
             o2.lines_per_task = 1; // workers alternate lines: each re-derives its active list
             fx::ScanlineOptions o3 = o2;
             o3.lines_per_task = 7;
+            fx::ScanlineOptions o4 = o2;
+            o4.lines_per_task = 0; // chunks from the work estimate (the default)
             fx::ScanlineStats s1, s2;
             const fx::Image a = r.render(cam, 64, 48, field, tf, o1, &s1);
             const fx::Image b2 = r.render(cam, 64, 48, field, tf, o2, &s2);
             const fx::Image b3 = r.render(cam, 64, 48, field, tf, o3);
+            const fx::Image b4 = r.render(cam, 64, 48, field, tf, o4);
             CHECK(s2.threads == 2);
             CHECK(s1.triangles_active == s2.triangles_active);
             CHECK(s1.crossings == s2.crossings);
             CHECK(s1.crossings > 1000);
             CHECK(a.pixels == b2.pixels); // bit-identical
             CHECK(a.pixels == b3.pixels);
+            CHECK(a.pixels == b4.pixels);
         }
     }
+}
+
+TEST_CASE("a copied or moved renderer draws the same frame", "[scanline]") {
+    const fx::CellMesh mesh = fx::make_nine_grid_mesh(0.08);
+    const fx::ScanlineRenderer original(mesh);
+    const fx::Bounds b = fx::mesh_bounds(mesh);
+    const fx::Camera cam = fx::Camera::framing(b.lo, b.hi);
+    const fx::TransferFunction tf = fx::TransferFunction::constant({0.6, 0.8, 1.0}, 1.5);
+    const fx::Image a = original.render(cam, 40, 30, *mesh.find_scalar("density"), tf); // keeps buffers
+    fx::ScanlineRenderer copy(original);
+    const fx::ScanlineRenderer moved(std::move(copy));
+    CHECK(moved.triangle_count() == original.triangle_count());
+    CHECK(moved.render(cam, 40, 30, *mesh.find_scalar("density"), tf).pixels == a.pixels);
+    CHECK(original.render(cam, 40, 30, *mesh.find_scalar("density"), tf).pixels == a.pixels); // reused buffers
 }
 
 TEST_CASE("statistics: memory by component, triangle counts, stage times", "[scanline]") {
@@ -151,13 +174,47 @@ TEST_CASE("statistics: memory by component, triangle counts, stage times", "[sca
     CHECK(s.triangles_active > 0);
     CHECK(s.triangles_active <= s.triangles_total);
     CHECK(s.memory.mesh == mesh.memory_bytes());
-    CHECK(s.memory.transformed_points >= mesh.point_count() * 3 * sizeof(double));
-    CHECK(s.memory.triangles >= r.triangle_count() * 3 * sizeof(std::uint32_t));
-    CHECK(s.memory.bucket_clip_info == r.triangle_count() * sizeof(std::uint16_t));
+    CHECK(s.memory.transformed_points >= mesh.point_count() * 4 * sizeof(float)); // x, y, z, scalar
+    CHECK(s.memory.triangles >= r.triangle_count() * sizeof(std::uint32_t)); // one code per triangle
+    // Per triangle its Y-bucket (16 bits) and its span class (4 bits).
+    CHECK(s.memory.bucket_clip_info ==
+          r.triangle_count() * sizeof(std::uint16_t) + (r.triangle_count() + 15) / 16 * sizeof(std::uint64_t));
     CHECK(s.memory.y_buckets >= s.triangles_active * sizeof(std::uint32_t));
     CHECK(s.memory.frame_buffer == 80 * 60 * sizeof(glm::vec4));
     CHECK(s.memory.active_lists > 0);
     CHECK(s.memory.x_buckets > 0);
     CHECK(s.seconds_total >= s.seconds_scan);
     CHECK(s.lost_segments == 0);
+}
+
+TEST_CASE("per-pixel depth sort gives the (depth, code) order for any input", "[scanline]") {
+    // The pixel walk relies on it: a wrong order is a wrong picture. Inputs as a pixel sees
+    // them (monotone runs per grid, both directions), random ones, and equal depths that
+    // only the code separates; sizes on both sides of the insertion-sort limit.
+    std::mt19937 rng(7);
+    std::vector<fx::scanline::Fragment> scratch;
+    std::vector<std::uint32_t> runs;
+    for (std::size_t n : {0u, 1u, 2u, 9u, 28u, 29u, 30u, 47u, 64u, 113u, 318u}) {
+        for (int shape = 0; shape < 4; ++shape) {
+            std::vector<fx::scanline::Fragment> v(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                double z = std::uniform_real_distribution<double>(-50.0, 50.0)(rng);
+                if (shape == 1) z = (i % 13 < 7 ? 1.0 : -1.0) * static_cast<double>(i % 13) + 0.01 * (i / 13); // runs
+                if (shape == 2) z = static_cast<double>(std::uniform_int_distribution<int>(0, 5)(rng)); // many ties
+                if (shape == 3) z = -static_cast<double>(i); // one descending run
+                v[i].z = z;
+                v[i].q = static_cast<double>(i);
+                v[i].id = static_cast<std::uint32_t>(i * 2654435761u); // distinct codes
+                v[i].grid = static_cast<std::uint32_t>(i % 9);
+                v[i].toggles = i % 2;
+            }
+            std::vector<fx::scanline::Fragment> expected = v;
+            std::sort(expected.begin(), expected.end(), fx::scanline::depth_order);
+            fx::scanline::sort_by_depth(v.data(), n, scratch, runs);
+            INFO("n " << n << " shape " << shape);
+            bool same = true;
+            for (std::size_t i = 0; i < n; ++i) same = same && v[i].id == expected[i].id && v[i].q == expected[i].q;
+            CHECK(same);
+        }
+    }
 }

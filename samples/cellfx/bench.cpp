@@ -12,7 +12,8 @@ int run_bench(const std::vector<std::string>& args) {
     if (args.empty() || args[0] == "--help") {
         std::puts("usage: cellfx bench NAME [options]\n"
                   "  scanline   CPU scan-line renderer on a synthetic nine-grid data set (Wilhelms et al. Table 3)\n"
-                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0)\n"
+                  "             options: --size WxH (512x512), --repeat N (3), --scale S (1.0),\n"
+                  "             --threads LIST (1,2: thread counts, speed-up against the first)\n"
                   "  pcp        GPU cell projection (pcp, pcp-exact, mip) on the blunt fin and a hex grid\n"
                   "             options: --sizes 512,1024, --repeat N (5), --grid N (100: 1M cells), --mesh XYZ --q Q\n"
                   "  sort       visibility sorts (centroid, mpvo, xmpvo, power) on ~1M tetrahedra\n"
@@ -21,6 +22,9 @@ int run_bench(const std::vector<std::string>& args) {
                   "  terrain    continuous LOD along a flight (1025², 2049²), pixels changed vs full resolution,\n"
                   "             fog valley fps per path; options: --sizes 1025,2049, --lod-frames N (300),\n"
                   "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps\n"
+                  "  absorption absorption / absorption-exact paths for every sort: blunt fin, ~1M tetrahedra, SPX\n"
+                  "             options: --size WxH (256x256), --frames N (5), --cells N (1000000), --sort A,B,\n"
+                  "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE\n"
                   "  effects    shipped effect scenes (campfire, searchlight, laser, fog_valley, aurora) per render path:\n"
                   "             ms/frame, GPU ms per stage, verified against the scan-line reference; options:\n"
                   "             --scenes a,b, --paths a,b, --frames N (8), --size WxH, --skip-verify");
@@ -31,8 +35,9 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "pcp") return bench_pcp(rest);
     if (args[0] == "sort") return bench_sort(rest);
     if (args[0] == "terrain") return bench_terrain(rest);
+    if (args[0] == "absorption") return bench_absorption(rest);
     if (args[0] == "effects") return bench_effects(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain or effects)");
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain, absorption or effects)");
 }
 
 } // namespace cellfx_cli

@@ -2,11 +2,13 @@
 //
 // `cellfx bench scanline`: the CPU scan-line renderer on a synthetic nine-grid curvilinear
 // data set with the dimensions of the paper's Table 3 (941,159 points). Prints seconds per
-// frame (median of --repeat) on 1 and 2 threads, the speed-up, active polygons and memory
-// by component next to the mesh's own size. The frames are verified after timing: both
-// thread counts must give bit-identical, non-empty images.
+// frame (median and best of --repeat, and the process CPU time, which shows how much other
+// load there was) on 1 and 2 threads, the speed-up, active polygons and memory by component
+// next to the mesh's own size. The frames are verified after timing: all thread counts must
+// give bit-identical, non-empty images.
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -32,13 +34,26 @@ double median(std::vector<double> v) {
 
 int bench_scanline(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {});
-    require_known(parsed, {"size", "repeat", "scale"});
+    require_known(parsed, {"size", "repeat", "scale", "threads"});
     if (!parsed.positional.empty()) throw fx::Error("bench scanline: unexpected argument '" + parsed.positional[0] + "'");
     int width = 512, height = 512;
     if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
     const int repeat = parse_int(parsed.get("repeat", "3"), "--repeat");
     const double scale = parse_double(parsed.get("scale", "1.0"), "--scale");
     if (repeat < 1) throw fx::Error("bench scanline: --repeat must be at least 1");
+    // --threads 1,2 (default): the thread counts to time; the speed-up is against the first.
+    std::vector<unsigned> thread_counts;
+    {
+        const std::string list = parsed.get("threads", "1,2");
+        std::size_t pos = 0;
+        while (pos <= list.size()) {
+            const std::size_t comma = std::min(list.find(',', pos), list.size());
+            const int n = parse_int(list.substr(pos, comma - pos), "--threads");
+            if (n < 1 || n > 256) throw fx::Error("bench scanline: --threads entries must be in 1..256");
+            thread_counts.push_back(static_cast<unsigned>(n));
+            pos = comma + 1;
+        }
+    }
 
     using clock = std::chrono::steady_clock;
     auto t0 = clock::now();
@@ -60,42 +75,57 @@ int bench_scanline(const std::vector<std::string>& args) {
     std::printf("scan-line renderer, synthetic nine-grid data set (Wilhelms et al. Table 3 dimensions)\n");
     std::printf("  grids %zu, points %zu, cells %zu, triangles %zu (surface %zu)\n", mesh.blocks.size(),
                 mesh.point_count(), mesh.cell_count(), renderer.triangle_count(), renderer.surface_triangle_count());
-    std::printf("  build mesh %.2f s, renderer set-up (faces, topology) %.2f s; image %dx%d, median of %d\n", t_mesh,
-                t_setup, width, height, repeat);
+    std::printf("  build mesh %.2f s, renderer set-up (faces, topology) %.2f s; image %dx%d, %d frames per thread "
+                "count, interleaved\n",
+                t_mesh, t_setup, width, height, repeat);
 
-    fx::Image frames[2];
-    fx::ScanlineStats last_stats[2];
-    double seconds[2];
-    const unsigned thread_counts[2] = {1, 2};
-    for (int i = 0; i < 2; ++i) {
-        fx::ScanlineOptions options;
-        options.threads = thread_counts[i];
-        std::vector<double> times;
-        for (int r = 0; r < repeat; ++r) {
-            fx::ScanlineStats stats;
+    const std::size_t runs = thread_counts.size();
+    std::vector<fx::Image> frames(runs);
+    std::vector<fx::ScanlineStats> last_stats(runs);
+    std::vector<std::vector<double>> times(runs), cpu_times(runs);
+    // Thread counts take turns frame by frame, so that load from other processes on a shared
+    // machine falls on all of them alike and the ratio stays meaningful.
+    for (int r = 0; r < repeat; ++r) {
+        for (std::size_t i = 0; i < runs; ++i) {
+            fx::ScanlineOptions options;
+            options.threads = thread_counts[i];
             const auto start = clock::now();
-            frames[i] = renderer.render(camera, width, height, field, tf, options, &stats);
-            times.push_back(std::chrono::duration<double>(clock::now() - start).count());
-            last_stats[i] = stats;
+            const std::clock_t cpu_start = std::clock();
+            frames[i] = renderer.render(camera, width, height, field, tf, options, &last_stats[i]);
+            times[i].push_back(std::chrono::duration<double>(clock::now() - start).count());
+            cpu_times[i].push_back(static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
         }
-        seconds[i] = median(times);
+    }
+    std::vector<double> seconds(runs);
+    for (std::size_t i = 0; i < runs; ++i) {
+        seconds[i] = median(times[i]);
         const fx::ScanlineStats& s = last_stats[i];
-        std::printf("  %u thread%s: %.3f s/frame  (transform %.3f, y-buckets %.3f, scan %.3f)\n", thread_counts[i],
-                    thread_counts[i] > 1 ? "s" : " ", seconds[i], s.seconds_transform, s.seconds_y_buckets,
-                    s.seconds_scan);
+        std::printf("  %u thread%s: %.3f s/frame median, %.3f best, CPU %.3f s/frame  (last frame: transform %.3f, "
+                    "y-buckets %.3f, scan %.3f)\n",
+                    thread_counts[i], thread_counts[i] > 1 ? "s" : " ", seconds[i],
+                    *std::min_element(times[i].begin(), times[i].end()), median(cpu_times[i]), s.seconds_transform,
+                    s.seconds_y_buckets, s.seconds_scan);
     }
     // Verify after timing: identical frames, something drawn.
-    if (frames[0].pixels != frames[1].pixels) throw fx::Error("bench scanline: 1 and 2 threads gave different frames");
+    for (std::size_t i = 1; i < runs; ++i) {
+        if (frames[i].pixels != frames[0].pixels) {
+            throw fx::Error("bench scanline: " + std::to_string(thread_counts[0]) + " and " +
+                            std::to_string(thread_counts[i]) + " threads gave different frames");
+        }
+    }
     double energy = 0.0;
     for (const auto& p : frames[0].pixels) energy += p.a;
     if (!(energy > 0.01 * width * height)) throw fx::Error("bench scanline: the frame is (nearly) empty");
 
-    const fx::ScanlineStats& s = last_stats[1];
+    for (std::size_t i = 1; i < runs; ++i) {
+        std::printf("  speed-up %u threads: %.2fx (median against %u thread%s)\n", thread_counts[i],
+                    seconds[0] / seconds[i], thread_counts[0], thread_counts[0] > 1 ? "s" : "");
+    }
+    const fx::ScanlineStats& s = last_stats.back();
     const fx::ScanlineMemory& m = s.memory;
-    std::printf("  speed-up 2 threads: %.2fx\n", seconds[0] / seconds[1]);
     std::printf("  active polygons %zu of %zu (%.3f million), crossings %zu, near-clipped %zu\n", s.triangles_active,
                 s.triangles_total, s.triangles_active / 1e6, s.crossings, s.triangles_near_clipped);
-    std::printf("  memory (MiB, 2 threads):\n");
+    std::printf("  memory (MiB, %u thread%s):\n", s.threads, s.threads > 1 ? "s" : "");
     std::printf("    mesh               %8.1f\n", mib(m.mesh));
     std::printf("    triangles          %8.1f\n", mib(m.triangles));
     std::printf("    transformed points %8.1f\n", mib(m.transformed_points));

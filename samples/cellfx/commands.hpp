@@ -21,6 +21,8 @@ int bench_scanline(const std::vector<std::string>& args);
 int bench_pcp(const std::vector<std::string>& args);
 // `cellfx bench terrain`: continuous LOD, pixels changed, fog valley fps (Roettger et al. 1998, §5).
 int bench_terrain(const std::vector<std::string>& args);
+// `cellfx bench absorption`: the absorption paths for every sort (Max, Williams & Silva 2000).
+int bench_absorption(const std::vector<std::string>& args);
 
 // `cellfx bench effects`: the shipped effect scenes per render path, GPU-timed per stage, verified.
 int bench_effects(const std::vector<std::string>& args);

@@ -26,9 +26,12 @@ namespace {
 constexpr const char* kUsage =
     "usage: cellfx render FILE [Q_FILE] --out FILE.png|FILE.pfm [options]\n"
     "  --path NAME        render path: scanline (CPU reference, default), or a GPU path\n"
-    "                     (headless OpenGL 4.5): pcp (classic, 8-bit), pcp-exact, mip\n"
+    "                     (headless OpenGL 4.5): pcp (classic, 8-bit), pcp-exact, mip, absorption\n"
+    "                     (sorted, classic), absorption-exact\n"
     "  --model NAME       scanline optical model: absorption (default), emission, max\n"
     "  --fog              pcp-exact: also absorb (one-colour medium, bg·e^-tau + c·(1 - e^-tau))\n"
+    "  --sort NAME        absorption paths: visibility sort xmpvo (default; exact on convex and\n"
+    "                     non-convex meshes), mpvo (convex meshes), power (Delaunay), centroid\n"
     "  --scalar NAME      point field to render (default: the first)\n"
     "  --tf FILE          transfer function JSON (default: a built-in blue-to-red ramp);\n"
     "                     a normalized one is mapped onto the field's range\n"
@@ -138,6 +141,7 @@ struct RenderJob {
     fx::OpticalModel model;
     unsigned threads;
     bool fog;
+    fx::SortMethod sort;
 };
 
 Frame render_scanline(const RenderJob& job) {
@@ -173,6 +177,7 @@ Frame render_gpu(const RenderJob& job, fx::RenderPath path) {
     const auto t2 = std::chrono::steady_clock::now();
     fx::CellRenderOptions options;
     options.fog = job.fog;
+    options.sort = job.sort;
     options.timing = true;
     fx::CellRenderStats stats;
     Frame frame;
@@ -185,7 +190,16 @@ Frame render_gpu(const RenderJob& job, fx::RenderPath path) {
     frame.counts = {{"cells", double(stats.cells)},       {"cells drawn", double(stats.cells_drawn)},
                     {"near-plane caps", double(stats.caps)}, {"batches", double(stats.batches)},
                     {"draw calls", double(stats.draw_calls)}, {"gpu MB", double(renderer.gpu_bytes()) / 1e6}};
-    frame.notes = {"gl: " + context.description()};
+    if (path == fx::RenderPath::Absorption || path == fx::RenderPath::AbsorptionExact) {
+        frame.milliseconds.insert(frame.milliseconds.begin() + 2, {{"sort set-up", stats.setup_ms},
+                                                                   {"subdivision (§V)", stats.subdivision_ms},
+                                                                   {"sort", stats.sort_ms},
+                                                                   {"projection", stats.projection_ms}});
+        frame.counts.push_back({"problem cells", double(stats.problem_cells)});
+        frame.counts.push_back({"sort cycles", double(stats.sort_cycles)});
+        frame.notes.push_back(std::string("sort: ") + fx::sort_method_name(job.sort));
+    }
+    frame.notes.push_back("gl: " + context.description());
     return frame;
 }
 
@@ -236,7 +250,7 @@ int run_render(const std::vector<std::string>& args) {
         parsed.positional[0].compare(parsed.positional[0].size() - 5, 5, ".json") == 0)
         return render_scene_file(parsed);
     require_known(parsed, {"path", "model", "scalar", "tf", "density", "camera", "near", "size", "background",
-                           "threads", "fog", "out"});
+                           "threads", "fog", "sort", "out"});
     if (parsed.positional.empty() || parsed.positional.size() > 2) throw fx::Error("expected FILE [Q_FILE]\n" + std::string(kUsage));
     const std::string out = parsed.get("out");
     if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
@@ -262,7 +276,16 @@ int run_render(const std::vector<std::string>& args) {
     }
 
     RenderJob job{&mesh, field, default_transfer_function(), {}, 512, 512, fx::OpticalModel::EmissionAbsorption, 0,
-                  parsed.has("fog")};
+                  parsed.has("fog"), fx::SortMethod::Xmpvo};
+    if (parsed.has("sort")) {
+        if (path_name != "absorption" && path_name != "absorption-exact")
+            throw fx::Error("--sort is an option of the absorption paths");
+        if (!fx::parse_sort_method(parsed.get("sort"), job.sort)) {
+            std::string names;
+            for (const fx::SortMethod m : fx::all_sort_methods()) names += (names.empty() ? "" : ", ") + std::string(fx::sort_method_name(m));
+            throw fx::Error("--sort: unknown sort '" + parsed.get("sort") + "' (expected " + names + ")");
+        }
+    }
     if (job.fog && path_name != "pcp-exact") throw fx::Error("--fog is an option of --path pcp-exact");
     if (parsed.has("tf")) job.tf = fx::TransferFunction::read_json(parsed.get("tf"));
     if (job.tf.normalized()) {

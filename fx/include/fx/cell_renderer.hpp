@@ -1,6 +1,8 @@
-// cellfx — GPU cell projection: the PCP, PCP-exact and MIP render paths on OpenGL 4.5.
+// cellfx — GPU cell projection: the PCP, PCP-exact and MIP render paths and the sorted
+// absorption paths on OpenGL 4.5.
 //
-// Based on: Roettger & Ertl 2003, §2 (MIP), §3 (PCP) and §5 (near-plane caps).
+// Based on: Roettger & Ertl 2003, §2 (MIP), §3 (PCP) and §5 (near-plane caps); Max, Williams &
+// Silva 2000, §II–§V (absorption).
 //
 //   pcp        classic, as in the paper: per batch of cells with disjoint screen footprints,
 //              back faces → alpha (d − d_min)/Δd, front faces and near-plane caps subtracted,
@@ -14,6 +16,16 @@
 //              bg·e^(−τ) + c·(1 − e^(−τ)) once — exact absorption for a one-colour medium,
 //              no sort. Nothing per frame on the CPU.
 //   mip        one draw: all faces with GL_MAX, emission c·σ at the face's scalar, plus caps.
+//   absorption        emission and absorption (Max, Williams & Silva 2000, §II–§V), cells
+//              sorted back to front (CellRenderOptions::sort) and composited with "over":
+//              per cell the projected subdivision built on the CPU, opacity through a 2-D
+//              texture of 1 − exp(−u·v), colour computed at the vertices and divided by α;
+//              cells at transfer-function breakpoints sliced (§V). CPU work per frame.
+//   absorption-exact  the same order, one draw: per fragment entry/exit through the cell's
+//              planes and a pre-integration table over (s_front, s_back, length), float target.
+//              Both cut the cells with problem faces (§V) into tetrahedra for the view, and
+//              need positively oriented cells (an inverted one throws fx::Error naming it).
+//              docs/absorption.md: tolerances, limits, timings.
 //
 // STEP BY STEP (a game loop):
 //     fx::CellRenderer fog(mesh, "density", tf);        // once, context current: uploads
@@ -42,14 +54,17 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
 #include "fx/transfer_function.hpp"
+#include "fx/visibility_sort.hpp"
 
 namespace fx {
 
-enum class RenderPath { Pcp, PcpExact, Mip };
+enum class RenderPath { Pcp, PcpExact, Mip, Absorption, AbsorptionExact };
 // Every path, in the order tools list them (the CLI offers each under render_path_name()).
-inline constexpr RenderPath kRenderPaths[] = {RenderPath::Pcp, RenderPath::PcpExact, RenderPath::Mip};
-const char* render_path_name(RenderPath path); // "pcp", "pcp-exact", "mip"
-// Parses "pcp", "pcp-exact" or "mip"; false for anything else.
+inline constexpr RenderPath kRenderPaths[] = {RenderPath::Pcp, RenderPath::PcpExact, RenderPath::Mip,
+                                              RenderPath::Absorption, RenderPath::AbsorptionExact};
+// "pcp", "pcp-exact", "mip", "absorption", "absorption-exact"
+const char* render_path_name(RenderPath path);
+// Parses a name given by render_path_name(); false for anything else.
 bool parse_render_path(std::string_view name, RenderPath& path);
 
 struct Viewport {
@@ -71,10 +86,20 @@ struct CellRenderOptions {
     // the viewport. pcp-exact ends each ray's segment at the scene depth (exact: the scalar is
     // interpolated to the cut); pcp clamps every face's depth d to it, so the α difference is the
     // length in front of the scene (colour stays the per-cell trapezoid estimate); mip drops the
-    // fragments behind it (a cell cut by a surface shows its entry face's maximum). It is read on
-    // texture unit 3 only while drawing into the renderer's own targets and unbound before the
+    // fragments behind it (a cell cut by a surface shows its entry face's maximum).
+    // absorption-exact ends each segment at the scene depth like pcp-exact; absorption scales
+    // each pixel's thickness by the part of its segment in front (the colour is kept). It is read
+    // on texture unit 3 only while drawing into the renderer's own targets and unbound before the
     // resolve, so it may be attached to the framebuffer render() draws into (a game's usual set-up).
     unsigned int scene_depth = 0;
+    // Absorption paths: the visibility sort (its per-mesh state is built on first use of each
+    // method, and again when the view-dependent subdivision changes the cells). The default,
+    // xmpvo, is exact on convex and non-convex meshes of convex cells; centroid is faster and
+    // approximate (docs/visibility_sort.md).
+    SortMethod sort = SortMethod::Xmpvo;
+    // Classic absorption: cut cells at the transfer function's breakpoints (§V) so that colour
+    // and extinction are linear inside every piece; off shows §II's projection alone.
+    bool slice_breakpoints = true;
 };
 
 struct CellRenderStats {
@@ -85,6 +110,15 @@ struct CellRenderStats {
     std::size_t caps = 0;         // near-plane cap polygons drawn
     std::size_t batches = 0;      // classic: footprint batches
     std::size_t draw_calls = 0;
+    // Absorption paths (CPU work, done before the GPU work and included in cpu_ms):
+    double setup_ms = 0.0;         // one-time work done in this frame (a sort's per-mesh state)
+    double subdivision_ms = 0.0;   // problem faces and the working mesh (§V)
+    double sort_ms = 0.0;          // visibility sort for this view
+    double projection_ms = 0.0;    // classic: projected subdivisions and vertex colours; exact: items
+    std::size_t problem_cells = 0; // cells cut into tetrahedra for this view (§V)
+    std::size_t sort_cycles = 0;   // visibility cycles the sort found and broke
+    std::size_t pieces = 0;        // classic: convex pieces projected (cells, tetrahedra, slabs)
+    std::size_t polygons = 0;      // classic: polygons of their projected subdivisions
 };
 
 class CellRenderer {
@@ -115,7 +149,8 @@ public:
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});
     // Renders into a new RGBA32F target cleared to 0 and reads it back: premultiplied, bottom
-    // row first; emission paths give (light, 0), fog gives (c·(1 − e^(−τ)), 1 − e^(−τ)).
+    // row first; emission paths give (light, 0), fog gives (c·(1 − e^(−τ)), 1 − e^(−τ)), the
+    // absorption paths premultiplied colour and alpha.
     Image render_to_image(const Camera& camera, int width, int height, RenderPath path,
                           const CellRenderOptions& options = {}, CellRenderStats* stats = nullptr);
 

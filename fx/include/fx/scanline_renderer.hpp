@@ -5,12 +5,15 @@
 //
 // Every cell face becomes triangles (quads split by triangulate_face(), smallest-vertex
 // diagonal); a face shared by two cells of one block is emitted once. A face with no
-// neighbour in its own block is a "grid surface" of that block. Per frame the points go to
-// screen space with depth kept in pixel units (§5), the triangles are sorted into one
-// Y-bucket array (§2.1, built in two passes by all threads, §3 Figure 7), and every scan line
-// keeps an active list, builds X-buckets and walks each pixel's crossings in depth order
-// (§2.2). Between consecutive crossings the colour is integrated exactly with
-// segment_integral.hpp (emission_absorption / emission_integral / segment_maximum).
+// neighbour in its own block is a "grid surface" of that block. A triangle is stored as one
+// 32-bit code (cell, face, half, surface flag); its points come from the mesh. Per frame the
+// points go to screen space with depth kept in pixel units (§5), the triangles are sorted
+// into one Y-bucket array (§2.1, built in two passes by all threads with per-thread counts
+// and offsets, §3 Figure 7; inside a bucket by the number of lines they cover), and every
+// scan line keeps an active list, builds X-buckets — each pixel's crossings, in depth order
+// (§2.2) — and walks them. Between consecutive crossings the colour is integrated exactly
+// with segment_integral.hpp (emission_absorption / emission_integral / segment_maximum).
+// docs/scanline.md describes the algorithm, its rules, memory and speed.
 //
 // Rules that make the picture right rather than roughly right:
 // - Coverage: pixel (x, y) is the point (x + 0.5, y + 0.5). A triangle covers it when
@@ -51,10 +54,15 @@
 //   write alpha = 0 (composite_over() then adds them to the background).
 //
 // Ownership and preconditions: the renderer keeps a reference to the mesh, which must
-// outlive it and must not change (points may not move) while it is used. Points must be
-// finite (the constructor throws fx::Error otherwise); cells may have either winding (the
-// in/out rule is a parity, not an orientation). render() is const and may be called from
-// several threads at once; each call uses its own buffers and `options.threads` workers.
+// outlive it and must not change (points may not move, cells not be added) while it is
+// used. Points must be finite and the mesh may have at most 2^27 cells (the constructor
+// throws fx::Error otherwise); cells may have either winding (the in/out rule is a parity,
+// not an orientation). render() is const and may be called from several threads at once,
+// each call with `options.threads` workers. The renderer keeps one set of per-frame buffers
+// (screen points, Y-buckets, worker lists) between calls so that a frame does not allocate
+// and clear them again; a call that finds them in use by another allocates its own. Frames
+// do not depend on the thread count or on how lines are shared out: equal depths are
+// ordered by triangle code.
 //
 //     fx::ScanlineRenderer renderer(mesh);                       // once per mesh
 //     fx::ScanlineOptions options;                               // EmissionAbsorption, all cores
@@ -65,6 +73,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -74,6 +84,10 @@
 #include "fx/transfer_function.hpp"
 
 namespace fx {
+
+namespace scanline {
+struct FrameBuffers;
+}
 
 enum class OpticalModel {
     Emission,           // ∫ c·σ ds, additive
@@ -85,7 +99,9 @@ struct ScanlineOptions {
     OpticalModel model = OpticalModel::EmissionAbsorption;
     unsigned threads = 0;           // 0: std::thread::hardware_concurrency()
     std::optional<Bounds> clip_box; // world-space box; colour only inside it
-    int lines_per_task = 4;         // scan lines a worker takes from the shared counter at once
+    // Consecutive scan lines a worker takes from the shared counter at once. 0: chunks of a
+    // share of the work left (estimated from the Y-bucket counts), large first, shrinking.
+    int lines_per_task = 0;
 };
 
 // Bytes in use during one frame, by the components of §4.3.
@@ -122,9 +138,14 @@ struct ScanlineStats {
 
 class ScanlineRenderer {
 public:
-    // Builds the triangles (face topology is computed here and discarded). Throws fx::Error
-    // for non-finite points or indices out of range.
+    // Builds the triangle table (face topology is computed here and discarded). Throws
+    // fx::Error for non-finite points, indices out of range or more than 2^27 cells.
     explicit ScanlineRenderer(const CellMesh& mesh);
+    ~ScanlineRenderer();
+    // Copies share the mesh and copy the triangle table, not the per-frame buffers.
+    ScanlineRenderer(const ScanlineRenderer& other);
+    ScanlineRenderer(ScanlineRenderer&& other) noexcept;
+    ScanlineRenderer& operator=(const ScanlineRenderer&) = delete; // the mesh reference is fixed
 
     // Renders one frame. `field` has one value per mesh point (finite); a normalized transfer
     // function is first mapped onto the field's range. width, height in [1, 65534].
@@ -133,22 +154,25 @@ public:
                  const TransferFunction& tf, const ScanlineOptions& options = {},
                  ScanlineStats* stats = nullptr) const;
 
-    std::size_t triangle_count() const { return triangles_.size() / 3; }
+    std::size_t triangle_count() const { return codes_.size(); }
     std::size_t surface_triangle_count() const { return surface_triangles_; }
-    std::size_t grid_count() const { return ranges_.size(); }
-    std::size_t memory_bytes() const; // the per-mesh triangle tables
-
-    // Triangles are stored grouped per block, each block's grid-surface triangles first.
-    struct TriangleRange {
-        std::uint32_t begin = 0, end = 0;     // triangles [begin, end) ...
-        std::uint32_t surface_end = 0;        // ... of which [begin, surface_end) are surfaces
-    };
+    std::size_t grid_count() const { return blocks_.size(); }
+    std::size_t memory_bytes() const; // the per-mesh triangle table
 
 private:
     const CellMesh& mesh_;
-    std::vector<std::uint32_t> triangles_; // 3 point indices per triangle
-    std::vector<TriangleRange> ranges_;    // one per block
+    // One 32-bit code per triangle, in cell order: cell << 5 | face << 2 | half << 1 |
+    // grid surface (the paper's sequential identifier; its points come from the mesh).
+    std::vector<std::uint32_t> codes_;
+    struct CellRange {
+        std::uint32_t begin = 0, end = 0; // cells of one block (grid)
+    };
+    std::vector<CellRange> blocks_;
     std::size_t surface_triangles_ = 0;
+    Bounds bounds_; // of the mesh, for the depth reference
+    // Per-frame buffers kept for the next render() (none while a render() holds them).
+    mutable std::mutex spare_mutex_;
+    mutable std::unique_ptr<scanline::FrameBuffers> spare_;
 };
 
 } // namespace fx

@@ -11,6 +11,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "absorption/absorption_pass.hpp"
 #include "fx/error.hpp"
 #include "fx/footprint_batches.hpp"
 #include "fx/polyhedron_projector.hpp"
@@ -28,6 +29,8 @@ const char* render_path_name(RenderPath path) {
     case RenderPath::Pcp: return "pcp";
     case RenderPath::PcpExact: return "pcp-exact";
     case RenderPath::Mip: return "mip";
+    case RenderPath::Absorption: return "absorption";
+    case RenderPath::AbsorptionExact: return "absorption-exact";
     }
     return "unknown";
 }
@@ -36,6 +39,8 @@ bool parse_render_path(std::string_view name, RenderPath& path) {
     if (name == "pcp") path = RenderPath::Pcp;
     else if (name == "pcp-exact") path = RenderPath::PcpExact;
     else if (name == "mip") path = RenderPath::Mip;
+    else if (name == "absorption") path = RenderPath::Absorption;
+    else if (name == "absorption-exact") path = RenderPath::AbsorptionExact;
     else return false;
     return true;
 }
@@ -87,6 +92,8 @@ struct CellRenderer::Impl {
     gl::RenderTarget accumulation_float, accumulation_8bit;
     gl::Query timer;
     std::size_t bytes = 0;
+    TransferFunction transfer;                   // as in use (normalized ones rescaled)
+    std::unique_ptr<AbsorptionPass> absorption;  // the absorption paths, made on first use
 
     // Per-frame scratch, kept to avoid reallocations.
     ProjectedCells projected;
@@ -107,7 +114,16 @@ struct CellRenderer::Impl {
     void draw_mip(const Camera& camera, CellRenderStats& stats);
     void draw_exact(CellRenderStats& stats);
     gl::RenderTarget& target_for(RenderPath path, int width, int height);
+    AbsorptionPass& absorption_pass();
 };
+
+AbsorptionPass& CellRenderer::Impl::absorption_pass() {
+    if (!absorption) {
+        absorption = std::make_unique<AbsorptionPass>(mesh, geometry);
+        absorption->set_transfer_function(transfer);
+    }
+    return *absorption;
+}
 
 CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf)
     : impl_(std::make_unique<Impl>()) {
@@ -126,6 +142,7 @@ CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name,
 }
 
 void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
+    impl_->absorption.reset(); // its subdivision, sorts and tables belong to the old mesh
     impl_->upload_mesh(mesh, scalar_name);
     set_transfer_function(impl_->source_tf);
 }
@@ -137,6 +154,8 @@ void CellRenderer::set_scalars(const std::vector<float>& values) {
                     std::to_string(m.geometry.scalars.size()) + " points");
     for (std::size_t i = 0; i < values.size(); ++i)
         if (!std::isfinite(values[i])) throw Error("cell renderer: set_scalars: value " + std::to_string(i) + " is not finite");
+    // The absorption paths' state (working mesh, sorts, tables) depends on the geometry and the
+    // transfer function only; their builders read the scalars from `geometry` and the GPU buffer.
     m.geometry.scalars = values;
     std::vector<glm::vec4> point_data(std::max<std::size_t>(values.size(), 1));
     for (std::size_t i = 0; i < values.size(); ++i) point_data[i] = glm::vec4(m.geometry.positions[i], values[i]);
@@ -190,7 +209,9 @@ CellRenderer::CellRenderer(CellRenderer&&) noexcept = default;
 CellRenderer& CellRenderer::operator=(CellRenderer&&) noexcept = default;
 
 std::size_t CellRenderer::cell_count() const { return impl_->mesh.cell_count(); }
-std::size_t CellRenderer::gpu_bytes() const { return impl_->bytes; }
+std::size_t CellRenderer::gpu_bytes() const {
+    return impl_->bytes + (impl_->absorption ? impl_->absorption->gpu_bytes() : 0);
+}
 
 void CellRenderer::set_transfer_function(const TransferFunction& tf) {
     impl_->source_tf = tf;
@@ -198,6 +219,8 @@ void CellRenderer::set_transfer_function(const TransferFunction& tf) {
         tf.normalized() ? tf.rescaled(impl_->field_range.lo, std::max(impl_->field_range.hi, impl_->field_range.lo + 1e-30f))
                         : tf;
     impl_->upload_tables(t);
+    impl_->transfer = t;
+    if (impl_->absorption) impl_->absorption->set_transfer_function(t);
 }
 
 void CellRenderer::Impl::upload_tables(const TransferFunction& tf) {
@@ -436,6 +459,9 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     gl::StateGuard guard;
     GLint host_framebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host_framebuffer);
+    const bool absorption = path == RenderPath::Absorption || path == RenderPath::AbsorptionExact;
+    // The absorption paths' CPU work (sort, subdivision, projection) comes before the timed GL work.
+    if (absorption) m.absorption_pass().prepare(camera, viewport, path == RenderPath::AbsorptionExact, options, stats);
     if (options.timing) glBeginQuery(GL_TIME_ELAPSED, m.timer.id());
 
     gl::StateGuard::set_render_defaults();
@@ -455,6 +481,10 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     case RenderPath::PcpExact: m.draw_exact(stats); break;
     case RenderPath::Mip: m.draw_mip(camera, stats); break;
     case RenderPath::Pcp: m.draw_classic(camera, viewport, options, stats); break;
+    case RenderPath::Absorption:
+    case RenderPath::AbsorptionExact:
+        m.absorption_pass().draw(camera, viewport, path == RenderPath::AbsorptionExact, options, stats);
+        break;
     }
 
     glBindTextureUnit(kSceneDepthUnit, 0); // the host's depth may be attached to its framebuffer
@@ -468,7 +498,7 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    const gl::Program& resolve = fog ? m.resolve_fog : m.resolve;
+    const gl::Program& resolve = absorption ? m.absorption_pass().resolve() : fog ? m.resolve_fog : m.resolve;
     glUseProgram(resolve.id());
     glProgramUniform2i(resolve.id(), 0, viewport.x, viewport.y);
     glBindTextureUnit(0, target.color_texture());

@@ -46,12 +46,17 @@ struct DepthMap {
 
 constexpr double kBehind = -std::numeric_limits<double>::infinity();
 
-// A transformed mesh point; z == kBehind when it lies behind the near plane.
+// A transformed mesh point with its scalar, 16 bytes (the paper keeps 3 floats per point,
+// §4.3). z == kBehind when it lies behind the near plane. Floats are enough: the view
+// transform is done in double relative to the camera, a screen position carries a relative
+// error of 6e-8 (3e-5 px at x = 512), and every triangle sharing the point reads the same
+// value, so shared edges still meet exactly.
 struct ScreenPoint {
-    double x, y, z;
+    float x, y, z, s;
 };
 
-// A vertex with its scalar: extra vertices of the per-frame triangles.
+// A vertex with its scalar in double, as the near-plane code computes it; stored as a
+// ScreenPoint like the mesh points.
 struct Vertex {
     double x, y, z, s;
 };
@@ -64,13 +69,12 @@ struct ExtraTriangle {
 
 struct FrameGeometry {
     const CellMesh* mesh = nullptr;
-    const float* scalars = nullptr; // one per mesh point
     glm::dmat4 view{1.0};
     DepthMap depth;
     double near = 0.0;
-    std::vector<ScreenPoint> points;  // one per mesh point
+    std::vector<ScreenPoint> points;  // one per mesh point (buffer reused between frames)
     glm::dvec3 box_corners[8]{};      // clip box, virtual point ids point_count() + i
-    std::vector<Vertex> extra_vertices;
+    std::vector<ScreenPoint> extra_vertices;
     std::vector<ExtraTriangle> extra_triangles;
 
     std::size_t point_count() const { return points.size(); }

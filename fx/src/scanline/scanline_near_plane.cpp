@@ -25,7 +25,7 @@ glm::dvec3 FrameGeometry::eye(std::uint32_t id) const {
 }
 
 double FrameGeometry::scalar(std::uint32_t id) const {
-    return id < points.size() ? static_cast<double>(scalars[id]) : 0.0;
+    return id < points.size() ? static_cast<double>(points[id].s) : 0.0;
 }
 
 Vertex FrameGeometry::project(std::uint32_t id) const {
@@ -60,9 +60,10 @@ Vertex FrameGeometry::near_point(std::uint32_t a, std::uint32_t b) const {
 void FrameGeometry::add_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::uint32_t grid,
                                  bool toggles) {
     const auto base = static_cast<std::uint32_t>(extra_vertices.size());
-    extra_vertices.push_back(a);
-    extra_vertices.push_back(b);
-    extra_vertices.push_back(c);
+    for (const Vertex* v : {&a, &b, &c}) {
+        extra_vertices.push_back(ScreenPoint{static_cast<float>(v->x), static_cast<float>(v->y),
+                                             static_cast<float>(v->z), static_cast<float>(v->s)});
+    }
     extra_triangles.push_back(ExtraTriangle{{base, base + 1, base + 2}, grid, toggles});
 }
 

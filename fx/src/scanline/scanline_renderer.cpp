@@ -1,15 +1,18 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2–§3, §5
 //
-// The scan-line renderer: triangles from cell faces (once per mesh), then per frame
+// The scan-line renderer: triangle codes from cell faces (once per mesh), then per frame
 //   1. points to screen space with pixel-unit depth (§2, §5), threads over points;
 //   2. near-plane clipping, caps and the clip box's virtual polygons (few, serial);
 //   3. the Y-bucket array in two passes with per-thread counts and offsets (§3, Figure 7),
 //      culling triangles off screen, outside the clip box's screen rectangle, or covering no
 //      scan line / pixel column (at pixel centres); bucket_clip_info keeps each triangle's
-//      bucket (or "dropped") between the passes;
-//   4. scan lines handed to workers by an atomic counter (no lock); each worker keeps its own
-//      active Y list, re-deriving it from the buckets when it skips lines, builds the X-buckets
-//      of the line and sweeps the pixels with an active X list kept in depth order (§2.2);
+//      bucket (or "dropped") and span class (lines covered) between the passes; a bucket
+//      lists its triangles by span class, longest first;
+//   4. scan lines handed to workers in chunks through one atomic counter (no lock); each
+//      worker keeps its own active Y list of multi-line triangles, reading exactly the
+//      still-active prefix of the buckets of lines it skipped; one-line triangles are cut
+//      straight from their bucket. Each line's crossings become fragments, counting-sorted
+//      into per-pixel X-buckets, each sorted by depth (§2.2);
 //   5. per pixel, the crossings in depth order toggle inside/outside per grid at surface
 //      triangles and the clip flag at clip polygons (§2.4 Figure 6); colour is integrated
 //      between consecutive crossings with segment_integral.hpp.
@@ -19,6 +22,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -28,16 +33,116 @@
 #include "fx/error.hpp"
 #include "fx/face_topology.hpp"
 #include "fx/segment_integral.hpp"
+#include "scanline/scanline_fragments.hpp"
 #include "scanline/scanline_frame.hpp"
 
 namespace fx {
+namespace scanline {
+
+// A vertex as the scan converter uses it: q is the scalar times w (perspective-correct).
+struct SVertex {
+    double x, y, z, q;
+};
+
+// A triangle with its vertices sorted bottom to top, ready to be cut by scan lines.
+struct ScanTriangle {
+    ScreenPoint v[3];
+    std::uint32_t id;
+    std::uint32_t grid : 31;
+    std::uint32_t toggles : 1;
+};
+
+// Table 1 of the paper: a triangle active over several scan lines, with its last line.
+// Triangles that cover one scan line never enter this list; they are cut straight from
+// their Y-bucket.
+struct ActiveTriangle {
+    ScanTriangle tri;
+    std::int32_t last_row;
+};
+
+// A fragment before the per-pixel counting sort.
+struct PixelFragment {
+    Fragment f;
+    std::int32_t x; // pixel column
+};
+
+struct Crossing {
+    double z, s;
+    double inv_w; // 1 / w(z)
+    std::uint32_t grid;
+    bool toggles;
+};
+
+constexpr std::size_t kNoCrossing = ~std::size_t(0);
+
+// A grid's segment through the current pixel, from its crossing a to its next crossing b.
+struct GridSegment {
+    std::size_t a = 0, b = kNoCrossing;
+    double z_a = 0.0, s_a = 0.0, ds = 0.0;
+    double scale = 0.0; // w(z_b) / (z_b − z_a), 0 for an empty segment
+};
+
+// Bytes held by a vector (capacity, not size).
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+    return v.capacity() * sizeof(T);
+}
+
+// Per-thread buffers, kept between frames. Aligned to a cache line: the vectors' sizes
+// change with every fragment, and neighbouring workers' must not share a line.
+struct alignas(64) WorkerBuffers {
+    std::vector<ActiveTriangle> active;
+    std::vector<PixelFragment> fragments;
+    std::vector<Fragment> sorted; // fragments by pixel, each pixel's X-bucket in depth order
+    std::vector<Fragment> scratch; // merge buffer of sort_by_depth()
+    std::vector<std::uint32_t> runs;
+    std::vector<std::uint32_t> xcount; // X-bucket starts per pixel (counting sort)
+    std::vector<Crossing> cross;
+    std::vector<int> next_same;
+    std::vector<std::uint8_t> inside;
+    std::vector<int> seen;
+    std::vector<GridSegment> segment; // per grid
+    std::vector<std::uint32_t> inside_list;
+
+    std::size_t active_bytes() const {
+        return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
+               bytes(inside_list);
+    }
+    std::size_t x_bytes() const {
+        return bytes(fragments) + bytes(sorted) + bytes(scratch) + bytes(runs) + bytes(xcount);
+    }
+};
+
+// The per-frame buffers, kept by the renderer between frames so that a frame neither
+// allocates nor clears its large arrays again (ScanlineRenderer::spare_).
+struct FrameBuffers {
+    std::vector<ScreenPoint> points;
+    std::vector<std::uint16_t> clip_info;  // bucket_clip_info: Y-bucket of each mesh triangle,
+    std::vector<std::uint64_t> span_class; // ... and its span class, 4 bits (16 per word)
+    std::vector<std::uint32_t> counts, offsets, bucket_start, class_begin, y_buckets;
+    std::vector<WorkerBuffers> workers;
+};
+
+} // namespace scanline
+
 namespace {
 
+using scanline::ActiveTriangle;
+using scanline::Crossing;
 using scanline::DepthMap;
 using scanline::ExtraTriangle;
+using scanline::Fragment;
+using scanline::FrameBuffers;
 using scanline::FrameGeometry;
+using scanline::GridSegment;
+using scanline::kNoCrossing;
+using scanline::PixelFragment;
+using scanline::ScanTriangle;
 using scanline::ScreenPoint;
+using scanline::SVertex;
 using scanline::Vertex;
+using scanline::WorkerBuffers;
+using scanline::bytes;
 
 constexpr std::uint16_t kDropped = 0xFFFF;
 
@@ -56,12 +161,17 @@ void run_threads(unsigned threads, const Fn& fn) {
 }
 
 // Smallest pixel index whose centre (i + 0.5) is ≥ v, and largest whose centre is < v.
-// v is clamped first so that far off-screen values cannot overflow an int.
-int first_center_at_or_after(double v) {
-    v = std::clamp(v, -1.0e9, 1.0e9);
-    return static_cast<int>(std::ceil(v - 0.5));
+// v is clamped first so that far off-screen values cannot overflow an int (NaN counts as far
+// off). ceil() by truncation and one exact comparison: std::ceil is a library call on
+// baseline x86-64, and this runs for every triangle on every scan line.
+inline int first_center_at_or_after(double v) {
+    double w = v - 0.5;
+    if (!(w > -1.0e9)) w = -1.0e9;
+    if (!(w < 1.0e9)) w = 1.0e9;
+    const int i = static_cast<int>(w); // towards zero
+    return static_cast<double>(i) < w ? i + 1 : i;
 }
-int last_center_before(double v) { return first_center_at_or_after(v) - 1; }
+inline int last_center_before(double v) { return first_center_at_or_after(v) - 1; }
 
 // §2.3: x = x1/(y1−y0)·(y−y0) + x0/(y1−y0)·(y1−y), exact at both endpoints. Callers pass an
 // edge's endpoints in a fixed order (lower y first), so two triangles sharing an edge get
@@ -78,68 +188,109 @@ struct Rect {
     int row_lo, row_hi, col_lo, col_hi;
 };
 
-// The Y-bucket of a triangle, or -1 when it is dropped: off screen, outside `r`, or covering
-// no scan line or no pixel column at pixel centres.
-int bucket_of(const double x[3], const double y[3], const Rect& r) {
+// The scan lines a triangle covers at pixel centres: its Y-bucket `first` and its last line.
+// first == -1 when it is dropped: off screen, outside `r`, or covering no scan line or no
+// pixel column.
+struct Rows {
+    int first, last;
+};
+Rows rows_of(const double x[3], const double y[3], const Rect& r) {
     const double ylo = std::min({y[0], y[1], y[2]}), yhi = std::max({y[0], y[1], y[2]});
     const int r0 = std::max(first_center_at_or_after(ylo), r.row_lo);
     const int r1 = std::min(last_center_before(yhi), r.row_hi);
-    if (r0 > r1) return -1;
+    if (r0 > r1) return {-1, -1};
     const double xlo = std::min({x[0], x[1], x[2]}), xhi = std::max({x[0], x[1], x[2]});
     const int c0 = std::max(first_center_at_or_after(xlo), r.col_lo);
     const int c1 = std::min(last_center_before(xhi), r.col_hi);
-    if (c0 > c1) return -1;
-    return r0;
+    if (c0 > c1) return {-1, -1};
+    return {r0, r1};
 }
 
-// A vertex as the scan converter uses it: q is the scalar times w (perspective-correct).
-struct SVertex {
-    double x, y, z, q;
-};
+// Sorts a triangle's three screen points bottom to top; every use of a triangle's edges
+// relies on this one order.
+inline void sort_bottom_to_top(ScreenPoint v[3]) {
+    if (v[1].y < v[0].y) std::swap(v[0], v[1]);
+    if (v[2].y < v[1].y) std::swap(v[1], v[2]);
+    if (v[1].y < v[0].y) std::swap(v[0], v[1]);
+}
 
-// Table 1 of the paper: an active triangle by reference, vertices sorted bottom to top
-// (ids below point_count are mesh points, the others extra vertices + point_count).
-struct ActiveTriangle {
-    std::uint32_t v[3];
-    std::int32_t last_row;
-    std::uint32_t id;
-    std::uint32_t grid : 31;
-    std::uint32_t toggles : 1;
+// Where scan line yc cuts triangle v (sorted bottom to top): Figure 3's two edges, the long
+// one v0→v2 and the short one below or above the middle vertex, their x by §2.3, and the
+// pixel columns [first, last] whose centres lie in [x_left, x_right) (none if first > last).
+struct LineSpan {
+    double xa, xb;       // x on the long and on the short edge
+    double inv_a, inv_b; // 1/(Δy) of those edges
+    int first, last;
 };
+inline LineSpan line_span(const ScreenPoint v[3], double yc, const Rect& r) {
+    LineSpan s;
+    s.inv_a = 1.0 / (double(v[2].y) - double(v[0].y));
+    s.xa = interpolate(v[0].x, v[2].x, v[0].y, v[2].y, s.inv_a, yc);
+    const ScreenPoint& p = yc < v[1].y ? v[0] : v[1];
+    const ScreenPoint& q = yc < v[1].y ? v[1] : v[2];
+    s.inv_b = 1.0 / (double(q.y) - double(p.y));
+    s.xb = interpolate(p.x, q.x, p.y, q.y, s.inv_b, yc);
+    s.first = std::max(first_center_at_or_after(std::min(s.xa, s.xb)), r.col_lo);
+    s.last = std::min(last_center_before(std::max(s.xa, s.xb)), r.col_hi);
+    return s;
+}
 
-// Table 2 of the paper: a triangle's span on the current scan line.
-struct XEntry {
-    double xl, xr, zl, zr, ql, qr;
-    double inv_width; // 1/(xr − xl)
-    int first, last; // pixel columns
-    std::uint32_t id;
-    std::uint32_t grid;
-    bool toggles;
-};
+// Y-bucket parts: span class c holds triangles covering exactly c scan lines (1 ≤ c < 15),
+// class 15 those covering 15 or more.
+constexpr int kSpanClasses = 16;
+int span_class(const Rows& r) { return std::min(r.last - r.first + 1, kSpanClasses - 1); }
 
-// A triangle in the active X list of a pixel, with its depth and q at that pixel.
-struct Live {
-    double z, q;
-    std::uint32_t id;
-    std::uint32_t entry;
-};
+// Triangle codes. A mesh triangle is cell << 5 | face << 2 | half << 1 | surface: half h of
+// triangulate_face() on face `face` of cell `cell`. A per-frame extra triangle (near-plane
+// piece, cap, clip-box polygon) is index << 5 | 7 << 2 | toggles. Codes are unique and the
+// same whichever thread meets them, so they break depth ties.
+constexpr std::uint32_t kExtraFace = 7;
+constexpr std::size_t kMaxCells = std::size_t(1) << 27;
+constexpr std::uint32_t mesh_code(std::size_t cell, int face, int half, bool surface) {
+    return static_cast<std::uint32_t>(cell << 5) | static_cast<std::uint32_t>(face) << 2 |
+           static_cast<std::uint32_t>(half) << 1 | (surface ? 1u : 0u);
+}
+constexpr std::uint32_t extra_code(std::size_t index, bool toggles) {
+    return static_cast<std::uint32_t>(index << 5) | kExtraFace << 2 | (toggles ? 1u : 0u);
+}
+constexpr bool is_extra(std::uint32_t code) { return ((code >> 2) & 7) == kExtraFace; }
+constexpr std::uint32_t code_index(std::uint32_t code) { return code >> 5; } // cell or extra index
+constexpr bool code_toggles(std::uint32_t code) { return (code & 1) != 0; }
 
-struct Crossing {
-    double z, s;
-    std::uint32_t grid;
-    bool toggles;
+// The point ids of mesh triangles, in triangulate_face()'s order. The two halves of a quad
+// have neighbouring codes and usually come one after the other, so the face's
+// triangulation is kept for the next call.
+class TriangleDecoder {
+public:
+    explicit TriangleDecoder(const CellMesh& mesh) : mesh_(mesh) {}
+    const std::uint32_t* operator()(std::uint32_t code) {
+        const std::uint32_t face = code >> 2; // cell and face
+        if (face != face_) {
+            const std::uint32_t cell = code_index(code);
+            triangulate_face(cell_faces(mesh_.cell_types[cell])[face & 7], mesh_.cell_vertices(cell), tri_);
+            face_ = face;
+        }
+        return tri_[(code >> 1) & 1];
+    }
+
+private:
+    const CellMesh& mesh_;
+    std::uint32_t face_ = ~std::uint32_t(0); // no cell has this index (at most 2^27 cells)
+    std::uint32_t tri_[2][3];
 };
 
 // Everything one frame needs, shared read-only by the workers.
 struct FrameContext {
     const FrameGeometry* geo;
-    const std::vector<std::uint32_t>* triangles;
-    std::vector<std::uint32_t> range_begin; // per block: first triangle, surface end, end
-    std::vector<std::uint32_t> range_surface_end;
-    std::vector<std::uint32_t> range_grid;
-    std::size_t base_triangles;
-    const std::vector<std::uint32_t>* y_buckets;
-    const std::vector<std::uint32_t>* bucket_start; // height + 1 entries
+    const CellMesh* mesh;
+    std::vector<std::uint32_t> block_begin, block_end; // cells of each grid
+    const std::uint32_t* y_buckets; // triangle codes
+    // Bucket b is y_buckets[bucket_start[b] .. bucket_start[b + 1]), its span classes from 15
+    // down to 1; class c starts at class_begin[16 b + c] and ends where class c − 1 starts
+    // (class_begin[16 b] is the end of the bucket).
+    const std::uint32_t* bucket_start; // height + 1 entries
+    const std::uint32_t* class_begin;  // 16 · height entries
+    std::size_t max_active;            // most triangles active on one line (never exceeded)
     Rect rect;
     int width, height;
     std::uint32_t grid_count; // blocks + 1 (the clip box)
@@ -150,273 +301,334 @@ struct FrameContext {
     Image* image;
 };
 
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(p);
+#else
+    (void)p;
+#endif
+}
+
 class Worker {
 public:
-    explicit Worker(const FrameContext& ctx) : ctx_(ctx) {
-        xcount_.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
-        inside_.assign(ctx.grid_count, 0);
-        last_.assign(ctx.grid_count, -1);
-        seen_.assign(ctx.grid_count, -1);
+    Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers), decode_(*ctx.mesh) {
+        b_.active.clear();
+        b_.active.reserve(ctx.max_active);
+        b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
+        b_.inside.assign(ctx.grid_count, 0);
+        b_.segment.assign(ctx.grid_count, GridSegment{});
+        b_.seen.assign(ctx.grid_count, -1);
+        cursor_ = 0;
     }
 
     void process_line(int y);
 
     std::size_t crossings = 0;
     std::size_t lost = 0;
-    std::size_t peak_active_bytes = 0;
-    std::size_t peak_x_bytes = 0;
 
 private:
-    void load_triangle(std::uint32_t id, int current_row);
-    SVertex vertex(std::uint32_t v) const;
+    // Fetches triangle `code` with its vertices sorted bottom to top. Codes ascend along a
+    // bucket's span class, so the grid is found by moving a cursor.
+    void fetch(std::uint32_t code, ScanTriangle& t);
+    // Appends the triangles of y_buckets[begin, end) still active on line y.
+    void load_active(std::uint32_t begin, std::uint32_t end, int y);
+    // Prefetches what fetch() will read for the bucket entries ahead of `i` in [i, end).
+    void prefetch_ahead(const std::uint32_t* codes, std::uint32_t i, std::uint32_t end) const;
+    SVertex vertex(const ScreenPoint& p) const; // with q = s·w
     void update_active(int y);
-    void shade_pixel(int x, int y, std::size_t n);
+    // Cuts t with scan line yc: appends one fragment per covered pixel.
+    void add_fragments(const ScanTriangle& t, double yc);
+    // Walks pixel (x, y)'s crossings in depth order (§2.4 Figure 6).
+    void shade_pixel(int x, int y, const Fragment* frags, std::size_t n);
 
     const FrameContext& ctx_;
+    WorkerBuffers& b_;
     int current_line_ = -1;
-    std::vector<ActiveTriangle> active_;
-    std::vector<XEntry> entries_;
-    std::vector<std::uint32_t> xcount_; // X-bucket starts per pixel (counting sort)
-    std::vector<std::uint32_t> xorder_;
-    std::vector<Live> live_;
-    std::vector<Crossing> cross_;
-    std::vector<int> next_same_;
-    std::vector<std::uint8_t> inside_;
-    std::vector<int> last_, seen_;
-    std::vector<std::uint32_t> inside_list_;
+    std::size_t cursor_ = 0; // block of the last fetched mesh triangle
+    TriangleDecoder decode_;
 };
 
-SVertex Worker::vertex(std::uint32_t v) const {
-    const FrameGeometry& geo = *ctx_.geo;
-    const std::size_t n = geo.points.size();
-    if (v < n) {
-        const ScreenPoint& p = geo.points[v];
-        return SVertex{p.x, p.y, p.z, static_cast<double>(geo.scalars[v]) * geo.depth.w(p.z)};
-    }
-    const Vertex& p = geo.extra_vertices[v - n];
-    return SVertex{p.x, p.y, p.z, p.s * geo.depth.w(p.z)};
+SVertex Worker::vertex(const ScreenPoint& p) const {
+    const double z = p.z;
+    return SVertex{p.x, p.y, z, static_cast<double>(p.s) * ctx_.geo->depth.w(z)};
 }
 
-void Worker::load_triangle(std::uint32_t id, int current_row) {
-    const FrameGeometry& geo = *ctx_.geo;
-    const auto n = static_cast<std::uint32_t>(geo.points.size());
-    ActiveTriangle t;
-    t.id = id;
-    double y[3];
-    if (id < ctx_.base_triangles) {
-        const std::uint32_t* tri = ctx_.triangles->data() + 3 * static_cast<std::size_t>(id);
-        for (int i = 0; i < 3; ++i) t.v[i] = tri[i], y[i] = geo.points[tri[i]].y;
-        const std::size_t r = static_cast<std::size_t>(
-            std::upper_bound(ctx_.range_begin.begin(), ctx_.range_begin.end(), id) - ctx_.range_begin.begin() - 1);
-        t.grid = ctx_.range_grid[r];
-        t.toggles = id < ctx_.range_surface_end[r];
-    } else {
-        const ExtraTriangle& e = geo.extra_triangles[id - ctx_.base_triangles];
-        for (int i = 0; i < 3; ++i) t.v[i] = n + e.v[i], y[i] = geo.extra_vertices[e.v[i]].y;
-        t.grid = e.grid;
-        t.toggles = e.toggles;
+void Worker::prefetch_ahead(const std::uint32_t* codes, std::uint32_t i, std::uint32_t end) const {
+    // Three stages along the bucket: the cell's connectivity offset far ahead, its point ids
+    // nearer, the face's points nearest (each stage reads what the previous one fetched).
+    // Most triangles are used once per frame, so their loads would otherwise wait on memory
+    // one after another.
+    constexpr std::uint32_t kFar = 24, kMid = 12, kNear = 6;
+    const CellMesh& mesh = *ctx_.mesh;
+    if (i + kFar < end && !is_extra(codes[i + kFar])) {
+        const std::uint32_t cell = code_index(codes[i + kFar]);
+        prefetch(&mesh.cell_offsets[cell]);
+        prefetch(&mesh.cell_types[cell]);
     }
-    // Sort the three vertices bottom to top.
-    if (y[1] < y[0]) std::swap(y[0], y[1]), std::swap(t.v[0], t.v[1]);
-    if (y[2] < y[1]) std::swap(y[1], y[2]), std::swap(t.v[1], t.v[2]);
-    if (y[1] < y[0]) std::swap(y[0], y[1]), std::swap(t.v[0], t.v[1]);
-    t.last_row = std::min(last_center_before(y[2]), ctx_.rect.row_hi);
-    if (t.last_row < current_row) return;
-    active_.push_back(t);
+    if (i + kMid < end && !is_extra(codes[i + kMid])) prefetch(mesh.cell_vertices(code_index(codes[i + kMid])));
+    if (i + kNear < end && !is_extra(codes[i + kNear])) {
+        const std::uint32_t code = codes[i + kNear];
+        const std::uint32_t cell = code_index(code);
+        const CellFace& face = cell_faces(mesh.cell_types[cell])[(code >> 2) & 7];
+        const std::uint32_t* cv = mesh.cell_vertices(cell);
+        const ScreenPoint* points = ctx_.geo->points.data();
+        for (int k = 0; k < face.count; ++k) prefetch(points + cv[face.v[k]]);
+    }
+}
+
+void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
+    const FrameGeometry& geo = *ctx_.geo;
+    t.id = code;
+    t.toggles = code_toggles(code);
+    if (!is_extra(code)) {
+        const std::uint32_t* ids = decode_(code);
+        for (int i = 0; i < 3; ++i) t.v[i] = geo.points[ids[i]];
+        const std::uint32_t cell = code_index(code);
+        if (cell < ctx_.block_begin[cursor_]) cursor_ = 0;
+        while (cell >= ctx_.block_end[cursor_]) ++cursor_;
+        t.grid = static_cast<std::uint32_t>(cursor_);
+    } else {
+        const ExtraTriangle& e = geo.extra_triangles[code_index(code)];
+        for (int i = 0; i < 3; ++i) t.v[i] = geo.extra_vertices[e.v[i]];
+        t.grid = e.grid;
+    }
+    sort_bottom_to_top(t.v);
+}
+
+void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
+    const std::uint32_t* ids = ctx_.y_buckets;
+    cursor_ = 0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+        prefetch_ahead(ids, i, end);
+        ActiveTriangle a;
+        fetch(ids[i], a.tri);
+        a.last_row = std::min(last_center_before(a.tri.v[2].y), ctx_.rect.row_hi);
+        if (a.last_row >= y) b_.active.push_back(a);
+    }
 }
 
 void Worker::update_active(int y) {
-    const std::vector<std::uint32_t>& start = *ctx_.bucket_start;
-    const std::vector<std::uint32_t>& ids = *ctx_.y_buckets;
-    // Lines skipped since this worker's last one (taken by other workers): their buckets are
-    // read too, keeping only triangles still active on line y.
-    for (int b = current_line_ + 1; b <= y; ++b) {
-        for (std::uint32_t i = start[b]; i < start[b + 1]; ++i) load_triangle(ids[i], y);
-    }
-    current_line_ = y;
     // Remove finished triangles by moving the last one into their place: the order of the
-    // active list does not matter, pixels order their crossings by (depth, id).
-    for (std::size_t i = 0; i < active_.size();) {
-        if (active_[i].last_row < y) {
-            active_[i] = active_.back();
-            active_.pop_back();
+    // active list does not matter, pixels order their crossings by (depth, code).
+    std::vector<ActiveTriangle>& active = b_.active;
+    for (std::size_t i = 0; i < active.size();) {
+        if (active[i].last_row < y) {
+            active[i] = active.back();
+            active.pop_back();
         } else {
             ++i;
         }
+    }
+    // Buckets of lines skipped since this worker's last line (taken by other workers) and of
+    // line y itself. A triangle of bucket b covers lines b .. b + span − 1, so only the span
+    // classes ≥ y − b + 1 (a prefix of the bucket) are still active on line y: exactly those
+    // are read, class 15 (15 lines or more) with a check. Bucket y's one-line class is cut
+    // directly by process_line().
+    for (int b = current_line_ + 1; b <= y; ++b) {
+        const int need = std::max(y - b + 1, 2);
+        const std::size_t cls = static_cast<std::size_t>(std::min(need, kSpanClasses - 1));
+        const std::uint32_t* begin = ctx_.class_begin + static_cast<std::size_t>(b) * kSpanClasses;
+        load_active(ctx_.bucket_start[b], begin[cls - 1], y);
+    }
+    current_line_ = y;
+}
+
+void Worker::add_fragments(const ScanTriangle& t, double yc) {
+    const LineSpan span = line_span(t.v, yc, ctx_.rect);
+    const int first = span.first, last = span.last;
+    if (first > last) return; // no pixel centre in [x_l, x_r): most triangle lines end here
+    const ScreenPoint& v0 = t.v[0];
+    const ScreenPoint& v2 = t.v[2];
+    const ScreenPoint& p = yc < t.v[1].y ? t.v[0] : t.v[1];
+    const ScreenPoint& q = yc < t.v[1].y ? t.v[1] : t.v[2];
+    const double xa = span.xa, xb = span.xb, inv_a = span.inv_a, inv_b = span.inv_b;
+    const double xl = std::min(xa, xb), xr = std::max(xa, xb);
+    const SVertex s0 = vertex(v0), s2 = vertex(v2), sp = vertex(p), sq = vertex(q);
+    const double za = interpolate(s0.z, s2.z, s0.y, s2.y, inv_a, yc);
+    const double qa = interpolate(s0.q, s2.q, s0.y, s2.y, inv_a, yc);
+    const double zb = interpolate(sp.z, sq.z, sp.y, sq.y, inv_b, yc);
+    const double qb = interpolate(sp.q, sq.q, sp.y, sq.y, inv_b, yc);
+    const bool a_left = xa <= xb;
+    const double zl = a_left ? za : zb, zr = a_left ? zb : za;
+    const double ql = a_left ? qa : qb, qr = a_left ? qb : qa;
+    const double inv_width = 1.0 / (xr - xl);
+    for (int x = first; x <= last; ++x) {
+        const double xc = x + 0.5;
+        PixelFragment pf;
+        pf.f.z = interpolate(zl, zr, xl, xr, inv_width, xc);
+        pf.f.q = interpolate(ql, qr, xl, xr, inv_width, xc);
+        pf.f.id = t.id;
+        pf.f.grid = t.grid;
+        pf.f.toggles = t.toggles;
+        pf.x = x;
+        b_.fragments.push_back(pf);
+        ++b_.xcount[x + 1];
     }
 }
 
 void Worker::process_line(int y) {
     update_active(y);
     const double yc = y + 0.5;
-    // X-buckets: each active triangle's span on this line, by first pixel.
-    entries_.clear();
-    int xmin = ctx_.width, xmax = -1;
-    for (const ActiveTriangle& t : active_) {
-        const SVertex v0 = vertex(t.v[0]);
-        const SVertex v1 = vertex(t.v[1]);
-        const SVertex v2 = vertex(t.v[2]);
-        // Figure 3: the long edge v0→v2 and the short edge below or above the middle vertex.
-        const double inv_a = 1.0 / (v2.y - v0.y);
-        const double xa = interpolate(v0.x, v2.x, v0.y, v2.y, inv_a, yc);
-        const SVertex& p = yc < v1.y ? v0 : v1;
-        const SVertex& q = yc < v1.y ? v1 : v2;
-        const double inv_b = 1.0 / (q.y - p.y);
-        const double xb = interpolate(p.x, q.x, p.y, q.y, inv_b, yc);
-        // Cheap reject before the depth and scalar edges: no pixel centre in [x_l, x_r).
-        if (first_center_at_or_after(std::min(xa, xb)) > last_center_before(std::max(xa, xb))) continue;
-        const double za = interpolate(v0.z, v2.z, v0.y, v2.y, inv_a, yc);
-        const double qa = interpolate(v0.q, v2.q, v0.y, v2.y, inv_a, yc);
-        const double zb = interpolate(p.z, q.z, p.y, q.y, inv_b, yc);
-        const double qb = interpolate(p.q, q.q, p.y, q.y, inv_b, yc);
-        XEntry e;
-        if (xa <= xb) {
-            e.xl = xa, e.zl = za, e.ql = qa, e.xr = xb, e.zr = zb, e.qr = qb;
-        } else {
-            e.xl = xb, e.zl = zb, e.ql = qb, e.xr = xa, e.zr = za, e.qr = qa;
-        }
-        e.first = std::max(first_center_at_or_after(e.xl), ctx_.rect.col_lo);
-        e.last = std::min(last_center_before(e.xr), ctx_.rect.col_hi);
-        if (e.first > e.last) continue;
-        e.inv_width = 1.0 / (e.xr - e.xl);
-        e.id = t.id;
-        e.grid = t.grid;
-        e.toggles = t.toggles;
-        xmin = std::min(xmin, e.first);
-        xmax = std::max(xmax, e.last);
-        entries_.push_back(e);
+    std::vector<PixelFragment>& frags = b_.fragments;
+    std::vector<std::uint32_t>& xcount = b_.xcount;
+    frags.clear();
+    std::fill(xcount.begin(), xcount.end(), 0u);
+    // X-buckets (§2.2): every crossing of a triangle with a pixel ray on this line.
+    for (const ActiveTriangle& a : b_.active) add_fragments(a.tri, yc);
+    const std::uint32_t* ids = ctx_.y_buckets;
+    const std::uint32_t* classes = ctx_.class_begin + static_cast<std::size_t>(y) * kSpanClasses;
+    const std::uint32_t one_line_end = classes[0];
+    cursor_ = 0;
+    for (std::uint32_t i = classes[1]; i < one_line_end; ++i) {
+        prefetch_ahead(ids, i, one_line_end);
+        ScanTriangle t;
+        fetch(ids[i], t);
+        add_fragments(t, yc);
     }
-    peak_active_bytes = std::max(peak_active_bytes, active_.capacity() * sizeof(ActiveTriangle) +
-                                                        live_.capacity() * sizeof(Live) +
-                                                        cross_.capacity() * sizeof(Crossing) +
-                                                        next_same_.capacity() * sizeof(int));
-    if (entries_.empty()) return;
-    // Counting sort of the entries by first pixel: xorder_[xcount_[x] .. xcount_[x+1]).
-    std::fill(xcount_.begin() + xmin, xcount_.begin() + xmax + 2, 0u);
-    for (const XEntry& e : entries_) ++xcount_[e.first + 1];
-    for (int x = xmin + 1; x <= xmax + 1; ++x) xcount_[x] += xcount_[x - 1];
-    xorder_.resize(entries_.size());
-    {
-        // xcount_[xmin] is 0 here; fill uses a running cursor per pixel.
-        std::vector<std::uint32_t>& cursor = xcount_;
-        for (std::uint32_t i = 0; i < entries_.size(); ++i) xorder_[cursor[entries_[i].first]++] = i;
-        // cursor[x] now holds the end of bucket x, i.e. the start of bucket x + 1.
-    }
-    peak_x_bytes = std::max(peak_x_bytes, entries_.capacity() * sizeof(XEntry) +
-                                              xorder_.capacity() * sizeof(std::uint32_t) +
-                                              xcount_.capacity() * sizeof(std::uint32_t));
-
-    // Sweep the pixels with the active X list in depth order (§2.2).
-    live_.clear();
-    std::uint32_t bucket_begin = 0;
-    for (int x = xmin; x <= xmax; ++x) {
-        const std::uint32_t bucket_end = xcount_[x];
-        const double xc = x + 0.5;
-        // Drop finished entries, update depth and q of the others at this pixel.
-        std::size_t keep = 0;
-        for (std::size_t i = 0; i < live_.size(); ++i) {
-            const XEntry& e = entries_[live_[i].entry];
-            if (e.last < x) continue;
-            Live l = live_[i];
-            l.z = interpolate(e.zl, e.zr, e.xl, e.xr, e.inv_width, xc);
-            l.q = interpolate(e.ql, e.qr, e.xl, e.xr, e.inv_width, xc);
-            live_[keep++] = l;
-        }
-        live_.resize(keep);
-        for (std::uint32_t k = bucket_begin; k < bucket_end; ++k) {
-            const std::uint32_t ei = xorder_[k];
-            const XEntry& e = entries_[ei];
-            live_.push_back(Live{interpolate(e.zl, e.zr, e.xl, e.xr, e.inv_width, xc),
-                                 interpolate(e.ql, e.qr, e.xl, e.xr, e.inv_width, xc), e.id, ei});
-        }
-        bucket_begin = bucket_end;
-        // Insertion sort by (depth, id): nearly sorted from the previous pixel, and the id
-        // makes equal depths order the same way whichever thread renders the line.
-        for (std::size_t i = 1; i < live_.size(); ++i) {
-            const Live l = live_[i];
-            std::size_t j = i;
-            while (j > 0 && (live_[j - 1].z > l.z || (live_[j - 1].z == l.z && live_[j - 1].id > l.id))) {
-                live_[j] = live_[j - 1];
-                --j;
-            }
-            live_[j] = l;
-        }
-        if (!live_.empty()) shade_pixel(x, y, live_.size());
+    if (frags.empty()) return;
+    // Counting sort by pixel; then each pixel's X-bucket in depth order, ties by id, so that
+    // equal depths order the same way whichever thread renders the line.
+    const int width = ctx_.width;
+    for (int x = 0; x < width; ++x) xcount[x + 1] += xcount[x];
+    std::vector<Fragment>& sorted = b_.sorted;
+    sorted.resize(frags.size());
+    // A running cursor per pixel: afterwards xcount[x] is the end of pixel x's bucket, i.e.
+    // the start of pixel x + 1's.
+    for (const PixelFragment& pf : frags) sorted[xcount[pf.x]++] = pf.f;
+    std::uint32_t begin = 0;
+    for (int x = 0; x < width; ++x) {
+        const std::uint32_t stop = xcount[x];
+        if (stop == begin) continue;
+        Fragment* k = sorted.data() + begin;
+        const std::size_t n = stop - begin;
+        scanline::sort_by_depth(k, n, b_.scratch, b_.runs);
+        shade_pixel(x, y, k, n);
+        begin = stop;
     }
 }
 
-void Worker::shade_pixel(int x, int y, std::size_t n) {
+void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     const DepthMap& dm = ctx_.geo->depth;
-    cross_.resize(n);
-    next_same_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-        const Live& l = live_[k];
-        const XEntry& e = entries_[l.entry];
-        cross_[k] = Crossing{l.z, l.q / dm.w(l.z), e.grid, e.toggles};
-    }
+    std::vector<Crossing>& cross = b_.cross;
+    std::vector<int>& next_same = b_.next_same;
+    std::vector<int>& seen = b_.seen;
+    std::vector<std::uint8_t>& inside = b_.inside;
+    std::vector<std::uint32_t>& inside_list = b_.inside_list;
     crossings += n;
-    // Next crossing of the same grid, for segments that other grids' crossings split.
-    for (std::size_t k = n; k-- > 0;) {
-        const std::uint32_t g = cross_[k].grid;
-        next_same_[k] = seen_[g];
-        seen_[g] = static_cast<int>(k);
-    }
-    for (std::size_t k = 0; k < n; ++k) seen_[cross_[k].grid] = -1;
-
     const double inv_cos = dm.inv_cos(x + 0.5, y + 0.5);
-    bool clip_in = !ctx_.clip;
-    inside_list_.clear();
+    const TransferFunction& tf = *ctx_.tf;
     SegmentColor acc;
     glm::dvec3 sum(0.0);
-    const TransferFunction& tf = *ctx_.tf;
+    // One medium between front scalar sf and back scalar sb over `length`.
+    auto integrate = [&](double sf, double sb, double length) {
+        switch (ctx_.model) {
+        case OpticalModel::EmissionAbsorption: acc = composite(acc, emission_absorption(tf, sf, sb, length)); break;
+        case OpticalModel::Emission: sum += emission_integral(tf, sf, sb, length); break;
+        case OpticalModel::Maximum: sum = glm::max(sum, segment_maximum(tf, sf, sb)); break;
+        }
+    };
+    auto write = [&]() {
+        glm::vec4& out = ctx_.image->at(x, y);
+        if (ctx_.model == OpticalModel::EmissionAbsorption) {
+            out = glm::vec4(glm::vec3(acc.color), static_cast<float>(acc.alpha));
+        } else {
+            out = glm::vec4(glm::vec3(sum), 0.0f);
+        }
+    };
+    auto scalar = [&](const Fragment& f) { return f.q * (1.0 / dm.w(f.z)); }; // as Crossing::s
 
-    // Scalar of grid g (segment from its crossing a to b) at crossing k.
-    auto scalar_at = [&](int a, int b, std::size_t k) {
-        if (static_cast<std::size_t>(a) == k) return cross_[a].s;
-        if (static_cast<std::size_t>(b) == k) return cross_[b].s;
-        const double span = dm.eye_delta(cross_[a].z, cross_[b].z);
-        if (!(span > 0.0)) return cross_[a].s;
-        const double u = dm.eye_delta(cross_[a].z, cross_[k].z) / span;
-        return cross_[a].s + (cross_[b].s - cross_[a].s) * u;
+    bool one_grid = !ctx_.clip;
+    for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
+    if (one_grid) {
+        // The common case, the general walk below reduced to one grid: every segment runs
+        // from a crossing of the grid to the next one.
+        bool in = false;
+        double s_front = scalar(frags[0]);
+        for (std::size_t k = 0; k + 1 < n; ++k) {
+            const double s_back = scalar(frags[k + 1]);
+            if (frags[k].toggles) in = !in;
+            if (in) {
+                const double length = dm.eye_delta(frags[k].z, frags[k + 1].z) * inv_cos;
+                if (length > 0.0) integrate(s_front, s_back, length);
+            }
+            s_front = s_back;
+        }
+        write();
+        return;
+    }
+
+    cross.resize(n);
+    next_same.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const Fragment& f = frags[k];
+        const double inv_w = 1.0 / dm.w(f.z);
+        cross[k] = Crossing{f.z, f.q * inv_w, inv_w, f.grid, f.toggles != 0};
+    }
+    // Next crossing of the same grid, for segments that other grids' crossings split.
+    for (std::size_t k = n; k-- > 0;) {
+        const std::uint32_t g = cross[k].grid;
+        next_same[k] = seen[g];
+        seen[g] = static_cast<int>(k);
+    }
+    for (std::size_t k = 0; k < n; ++k) seen[cross[k].grid] = -1;
+
+    bool clip_in = !ctx_.clip;
+    inside_list.clear();
+
+    // Each grid's current segment, from its crossing a to its next crossing b. Inside it the
+    // scalar is linear in eye depth: at crossing j, s = s_a + (s_b − s_a)·u with
+    // u = Δz_e(a→j)/Δz_e(a→b) = (z_j − z_a)·w(z_b) / ((z_b − z_a)·w(z_j)) (§5's depth map;
+    // w = 1 for orthographic views), exact at a and b.
+    std::vector<GridSegment>& segment = b_.segment;
+    auto scalar_at = [&](const GridSegment& g, std::size_t j) {
+        if (j == g.a) return g.s_a;
+        if (j == g.b) return cross[j].s;
+        return g.s_a + g.ds * ((cross[j].z - g.z_a) * g.scale * cross[j].inv_w);
     };
 
     for (std::size_t k = 0; k < n; ++k) {
-        const Crossing& c = cross_[k];
+        const Crossing& c = cross[k];
         if (c.toggles) {
             if (c.grid == ctx_.clip_grid) {
                 clip_in = !clip_in;
-            } else if (inside_[c.grid]) {
-                inside_[c.grid] = 0;
-                inside_list_.erase(std::find(inside_list_.begin(), inside_list_.end(), c.grid));
+            } else if (inside[c.grid]) {
+                inside[c.grid] = 0;
+                inside_list.erase(std::find(inside_list.begin(), inside_list.end(), c.grid));
             } else {
-                inside_[c.grid] = 1;
-                inside_list_.push_back(c.grid);
+                inside[c.grid] = 1;
+                inside_list.push_back(c.grid);
             }
         }
-        last_[c.grid] = static_cast<int>(k);
-        if (k + 1 == n || !clip_in || inside_list_.empty()) continue;
-        const double length = dm.eye_delta(c.z, cross_[k + 1].z) * inv_cos;
+        {
+            GridSegment& g = segment[c.grid];
+            const int b = next_same[k];
+            g.a = k;
+            g.b = b < 0 ? kNoCrossing : static_cast<std::size_t>(b);
+            g.z_a = c.z;
+            g.s_a = c.s;
+            if (b >= 0) {
+                const Crossing& e = cross[static_cast<std::size_t>(b)];
+                g.ds = e.s - c.s;
+                g.scale = e.z > c.z ? 1.0 / ((e.z - c.z) * e.inv_w) : 0.0;
+            }
+        }
+        if (k + 1 == n || !clip_in || inside_list.empty()) continue;
+        const double length = dm.eye_delta(c.z, cross[k + 1].z) * inv_cos;
         if (!(length > 0.0)) continue;
 
-        if (inside_list_.size() == 1) {
-            const std::uint32_t g = inside_list_[0];
-            const int a = last_[g], b = next_same_[a];
-            if (b < 0) { ++lost; continue; }
-            const double sf = scalar_at(a, b, k), sb = scalar_at(a, b, k + 1);
-            switch (ctx_.model) {
-            case OpticalModel::EmissionAbsorption: acc = composite(acc, emission_absorption(tf, sf, sb, length)); break;
-            case OpticalModel::Emission: sum += emission_integral(tf, sf, sb, length); break;
-            case OpticalModel::Maximum: sum = glm::max(sum, segment_maximum(tf, sf, sb)); break;
-            }
+        if (inside_list.size() == 1) {
+            const GridSegment& g = segment[inside_list[0]];
+            if (g.b == kNoCrossing) { ++lost; continue; }
+            integrate(scalar_at(g, k), scalar_at(g, k + 1), length);
             continue;
         }
         // Several grids over this span: their media add (see the header).
         double tau = 0.0;
         glm::dvec3 weighted(0.0);
-        for (std::uint32_t g : inside_list_) {
-            const int a = last_[g], b = next_same_[a];
-            if (b < 0) { ++lost; continue; }
-            const double sf = scalar_at(a, b, k), sb = scalar_at(a, b, k + 1);
+        for (std::uint32_t gi : inside_list) {
+            const GridSegment& g = segment[gi];
+            if (g.b == kNoCrossing) { ++lost; continue; }
+            const double sf = scalar_at(g, k), sb = scalar_at(g, k + 1);
             switch (ctx_.model) {
             case OpticalModel::EmissionAbsorption: {
                 const SegmentColor seg = emission_absorption(tf, sf, sb, length);
@@ -436,14 +648,8 @@ void Worker::shade_pixel(int x, int y, std::size_t n) {
             acc = composite(acc, mixed);
         }
     }
-    for (std::uint32_t g : inside_list_) inside_[g] = 0;
-
-    glm::vec4& out = ctx_.image->at(x, y);
-    if (ctx_.model == OpticalModel::EmissionAbsorption) {
-        out = glm::vec4(glm::vec3(acc.color), static_cast<float>(acc.alpha));
-    } else {
-        out = glm::vec4(glm::vec3(sum), 0.0f);
-    }
+    for (std::uint32_t g : inside_list) inside[g] = 0;
+    write();
 }
 
 } // namespace
@@ -462,6 +668,10 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
                         std::to_string(mesh.point_count()) + " points");
         }
     }
+    if (mesh.cell_count() > kMaxCells) {
+        throw Error("scan-line renderer: the mesh has " + std::to_string(mesh.cell_count()) +
+                    " cells; at most 2^27 (134217728) are supported");
+    }
     const FaceTopology topo = build_face_topology(mesh);
     std::vector<std::uint32_t> block_of(mesh.cell_count(), 0);
     for (std::size_t b = 0; b < mesh.blocks.size(); ++b) {
@@ -472,41 +682,32 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
     }
     std::size_t estimate = 0;
     for (std::size_t c = 0; c < mesh.cell_count(); ++c) estimate += 2 * cell_face_count(mesh.cell_types[c]);
-    triangles_.reserve(3 * estimate / 2 + 64);
-    auto emit = [&](std::size_t c, int f) {
-        const CellFace& face = cell_faces(mesh.cell_types[c])[f];
-        std::uint32_t tri[2][3];
-        const int n = triangulate_face(face, mesh.cell_vertices(c), tri);
-        for (int i = 0; i < n; ++i) triangles_.insert(triangles_.end(), tri[i], tri[i] + 3);
-    };
+    codes_.reserve(estimate / 2 + 64);
     for (std::size_t b = 0; b < mesh.blocks.size(); ++b) {
         const Block& blk = mesh.blocks[b];
         const std::size_t c_end = std::min<std::size_t>(blk.first_cell + blk.cell_count, mesh.cell_count());
-        TriangleRange range;
-        range.begin = static_cast<std::uint32_t>(triangles_.size() / 3);
-        // Grid surfaces first: faces with no neighbour in this block.
-        for (int pass = 0; pass < 2; ++pass) {
-            for (std::size_t c = blk.first_cell; c < c_end; ++c) {
-                const int faces = cell_face_count(mesh.cell_types[c]);
-                for (int f = 0; f < faces; ++f) {
-                    const std::uint32_t slot = topo.first_face[c] + static_cast<std::uint32_t>(f);
-                    const std::uint32_t nb = topo.neighbour[slot];
-                    const bool surface = nb == FaceTopology::kBoundary || block_of[topo.slot_cell[nb]] != b;
-                    if (pass == 0 && surface) emit(c, f);
-                    if (pass == 1 && !surface && slot < nb) emit(c, f); // shared face: once
-                }
+        for (std::size_t c = blk.first_cell; c < c_end; ++c) {
+            const CellFace* faces = cell_faces(mesh.cell_types[c]);
+            for (int f = 0; f < cell_face_count(mesh.cell_types[c]); ++f) {
+                const std::uint32_t slot = topo.first_face[c] + static_cast<std::uint32_t>(f);
+                const std::uint32_t nb = topo.neighbour[slot];
+                // A grid surface: no neighbour in this block. A face shared inside the block
+                // is emitted once, by its lower slot.
+                const bool surface = nb == FaceTopology::kBoundary || block_of[topo.slot_cell[nb]] != b;
+                if (!surface && slot > nb) continue;
+                const int halves = faces[f].count == 4 ? 2 : 1;
+                for (int h = 0; h < halves; ++h) codes_.push_back(mesh_code(c, f, h, surface));
+                if (surface) surface_triangles_ += static_cast<std::size_t>(halves);
             }
-            if (pass == 0) range.surface_end = static_cast<std::uint32_t>(triangles_.size() / 3);
         }
-        range.end = static_cast<std::uint32_t>(triangles_.size() / 3);
-        surface_triangles_ += range.surface_end - range.begin;
-        ranges_.push_back(range);
+        blocks_.push_back(CellRange{blk.first_cell, static_cast<std::uint32_t>(c_end)});
     }
-    triangles_.shrink_to_fit();
+    codes_.shrink_to_fit();
+    bounds_ = mesh_bounds(mesh);
 }
 
 std::size_t ScanlineRenderer::memory_bytes() const {
-    return triangles_.capacity() * sizeof(std::uint32_t) + ranges_.capacity() * sizeof(TriangleRange);
+    return codes_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(CellRange);
 }
 
 Image ScanlineRenderer::render(const Camera& camera, int width, int height, const ScalarField& field,
@@ -540,20 +741,27 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
                                                    : tf_in;
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     threads = std::min(threads, 256u);
-    const int lines_per_task = std::max(1, options.lines_per_task);
+    if (options.lines_per_task < 0) throw Error("scan-line renderer: lines_per_task must not be negative");
+
+    // The buffers of an earlier frame, or new ones when another render() holds them.
+    std::unique_ptr<FrameBuffers> buffers;
+    {
+        std::lock_guard<std::mutex> lock(spare_mutex_);
+        buffers = std::move(spare_);
+    }
+    if (!buffers) buffers = std::make_unique<FrameBuffers>();
+    FrameBuffers& fb = *buffers;
 
     // ---- 1. points to screen space, depth in pixels (§5)
     FrameGeometry geo;
     geo.mesh = &mesh_;
-    geo.scalars = field.values.data();
     geo.view = camera.view_matrix();
     geo.near = camera.near_distance;
     DepthMap& dm = geo.depth;
     dm.ortho = camera.orthographic();
     dm.cx = 0.5 * width;
     dm.cy = 0.5 * height;
-    const Bounds bounds = mesh_bounds(mesh_);
-    const double center_depth = bounds.empty() ? 1.0 : -(geo.view * glm::dvec4(bounds.center(), 1.0)).z;
+    const double center_depth = bounds_.empty() ? 1.0 : -(geo.view * glm::dvec4(bounds_.center(), 1.0)).z;
     if (dm.ortho) {
         dm.f = height / camera.ortho_height;
         dm.zr = center_depth;
@@ -562,7 +770,9 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         dm.zr = std::max(center_depth, camera.near_distance);
     }
     const std::size_t point_count = mesh_.point_count();
+    geo.points.swap(fb.points);
     geo.points.resize(point_count);
+    const float* scalars = field.values.data();
     std::vector<std::size_t> behind_per_thread(threads, 0);
     run_threads(threads, [&](unsigned t) {
         const std::size_t lo = point_count * t / threads, hi = point_count * (t + 1) / threads;
@@ -572,13 +782,16 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
             const glm::dvec3 e = glm::dvec3(v * glm::dvec4(mesh_.points[i], 1.0));
             const double ze = -e.z;
             ScreenPoint& s = geo.points[i];
+            s.s = scalars[i];
             if (ze < geo.near) {
-                s = ScreenPoint{0.0, 0.0, scanline::kBehind};
+                s.x = s.y = 0.0f;
+                s.z = static_cast<float>(scanline::kBehind);
                 ++behind;
-            } else if (dm.ortho) {
-                s = ScreenPoint{dm.cx + dm.f * e.x, dm.cy + dm.f * e.y, dm.to_screen(ze)};
             } else {
-                s = ScreenPoint{dm.cx + dm.f * e.x / ze, dm.cy + dm.f * e.y / ze, dm.to_screen(ze)};
+                const double k = dm.ortho ? dm.f : dm.f / ze;
+                s.x = static_cast<float>(dm.cx + k * e.x);
+                s.y = static_cast<float>(dm.cy + k * e.y);
+                s.z = static_cast<float>(dm.to_screen(ze));
             }
         }
         behind_per_thread[t] = behind;
@@ -647,87 +860,150 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         }
     }
 
-    // ---- 3. Y-buckets, pass 1: per-thread counts and bucket_clip_info (§3)
-    const std::size_t base_triangles = triangles_.size() / 3;
-    std::vector<std::uint16_t> clip_info(base_triangles);
+    // ---- 3. Y-buckets, pass 1: per-thread counts and bucket_clip_info (§3, Figure 7). Each
+    // bucket is ordered by the number of scan lines its triangles cover, longest first, so
+    // that a worker that skipped lines reads exactly the triangles still active (see
+    // Worker::update_active) and one-line triangles (a third of a large mesh's) never enter
+    // an active list.
+    const std::size_t base_triangles = codes_.size();
     const std::size_t H = static_cast<std::size_t>(height);
-    std::vector<std::uint32_t> counts((threads + 1) * H, 0); // row `threads`: the extra triangles
+    const std::size_t slots = threads + 1; // per thread, then the per-frame extra triangles
+    auto count_index = [&](int span, std::size_t slot, std::size_t row) {
+        return (static_cast<std::size_t>(span) * slots + slot) * H + row;
+    };
+    fb.clip_info.resize(base_triangles);
+    fb.span_class.resize((base_triangles + 15) / 16);
+    fb.counts.assign(kSpanClasses * slots * H, 0);
+    // Thread ranges start on multiples of 64 so that each thread writes whole words of
+    // span_class.
+    auto split = [&](unsigned t) {
+        return t == threads ? base_triangles : (base_triangles * t / threads) & ~std::size_t(63);
+    };
     std::vector<std::vector<std::uint32_t>> straddling(threads);
     run_threads(threads, [&](unsigned t) {
-        const std::size_t lo = base_triangles * t / threads, hi = base_triangles * (t + 1) / threads;
-        std::uint32_t* count = counts.data() + t * H;
+        const std::size_t lo = split(t), hi = split(t + 1);
+        std::uint16_t* clip_info = fb.clip_info.data();
+        std::uint32_t* count = fb.counts.data();
+        std::uint64_t word = 0;
+        TriangleDecoder decode(mesh_);
         for (std::size_t i = lo; i < hi; ++i) {
-            const std::uint32_t* tri = triangles_.data() + 3 * i;
+            const std::uint32_t* tri = decode(codes_[i]);
             const ScreenPoint& a = geo.points[tri[0]];
             const ScreenPoint& b = geo.points[tri[1]];
             const ScreenPoint& c = geo.points[tri[2]];
-            if (a.z == scanline::kBehind || b.z == scanline::kBehind || c.z == scanline::kBehind) {
-                clip_info[i] = kDropped;
-                if (a.z != scanline::kBehind || b.z != scanline::kBehind || c.z != scanline::kBehind) {
-                    straddling[t].push_back(static_cast<std::uint32_t>(i));
+            clip_info[i] = kDropped;
+            const bool a_behind = a.z == scanline::kBehind, b_behind = b.z == scanline::kBehind,
+                       c_behind = c.z == scanline::kBehind;
+            if (a_behind || b_behind || c_behind) {
+                if (!(a_behind && b_behind && c_behind)) straddling[t].push_back(static_cast<std::uint32_t>(i));
+            } else {
+                const double xs[3] = {a.x, b.x, c.x}, ys[3] = {a.y, b.y, c.y};
+                const Rows rows = rows_of(xs, ys, rect);
+                if (rows.first >= 0) {
+                    clip_info[i] = static_cast<std::uint16_t>(rows.first);
+                    const int span = span_class(rows);
+                    word |= std::uint64_t(span) << (4 * (i % 16));
+                    ++count[count_index(span, t, static_cast<std::size_t>(rows.first))];
                 }
-                continue;
             }
-            const double xs[3] = {a.x, b.x, c.x}, ys[3] = {a.y, b.y, c.y};
-            const int row = bucket_of(xs, ys, rect);
-            if (row < 0) {
-                clip_info[i] = kDropped;
-                continue;
+            if (i % 16 == 15 || i + 1 == hi) {
+                fb.span_class[i / 16] = word;
+                word = 0;
             }
-            clip_info[i] = static_cast<std::uint16_t>(row);
-            ++count[row];
         }
     });
     // Triangles cut by the near plane: clipped pieces become extra triangles.
     std::size_t near_clipped = 0;
     for (unsigned t = 0; t < threads; ++t) {
         for (std::uint32_t i : straddling[t]) {
-            const std::size_t r = static_cast<std::size_t>(
-                std::upper_bound(ranges_.begin(), ranges_.end(), i,
-                                 [](std::uint32_t v, const TriangleRange& rg) { return v < rg.begin; }) -
-                ranges_.begin() - 1);
-            geo.add_clipped_triangle(triangles_.data() + 3 * static_cast<std::size_t>(i), static_cast<std::uint32_t>(r),
-                                     i < ranges_[r].surface_end);
+            const std::uint32_t code = codes_[i];
+            const std::uint32_t cell = code_index(code);
+            std::size_t b = 0;
+            while (cell >= blocks_[b].end) ++b;
+            TriangleDecoder decode(mesh_);
+            geo.add_clipped_triangle(decode(code), static_cast<std::uint32_t>(b), code_toggles(code));
             ++near_clipped;
         }
     }
     const std::size_t extra_count = geo.extra_triangles.size();
-    std::vector<int> extra_bucket(extra_count);
+    if (extra_count >= kMaxCells) {
+        throw Error("scan-line renderer: " + std::to_string(extra_count) +
+                    " near-plane and clip-box triangles in one frame; at most 2^27 are supported");
+    }
+    std::vector<Rows> extra_rows(extra_count);
     for (std::size_t i = 0; i < extra_count; ++i) {
         const ExtraTriangle& e = geo.extra_triangles[i];
-        const Vertex& a = geo.extra_vertices[e.v[0]];
-        const Vertex& b = geo.extra_vertices[e.v[1]];
-        const Vertex& c = geo.extra_vertices[e.v[2]];
+        const ScreenPoint& a = geo.extra_vertices[e.v[0]];
+        const ScreenPoint& b = geo.extra_vertices[e.v[1]];
+        const ScreenPoint& c = geo.extra_vertices[e.v[2]];
         const double xs[3] = {a.x, b.x, c.x}, ys[3] = {a.y, b.y, c.y};
-        extra_bucket[i] = bucket_of(xs, ys, rect);
-        if (extra_bucket[i] >= 0) ++counts[threads * H + static_cast<std::size_t>(extra_bucket[i])];
-    }
-    // Offsets (Figure 7): bucket-major, thread-minor.
-    std::vector<std::uint32_t> offsets((threads + 1) * H);
-    std::vector<std::uint32_t> bucket_start(H + 1);
-    std::uint32_t total = 0;
-    for (std::size_t b = 0; b < H; ++b) {
-        bucket_start[b] = total;
-        for (unsigned t = 0; t <= threads; ++t) {
-            offsets[t * H + b] = total;
-            total += counts[t * H + b];
+        extra_rows[i] = rows_of(xs, ys, rect);
+        if (extra_rows[i].first >= 0) {
+            ++fb.counts[count_index(span_class(extra_rows[i]), threads, static_cast<std::size_t>(extra_rows[i].first))];
         }
     }
-    bucket_start[H] = total;
+    // Offsets (Figure 7): bucket-major, then span class from long to short, then thread.
+    // Within one class of a bucket the ids ascend (threads own ascending id ranges, extra
+    // triangles come last).
+    fb.offsets.resize(kSpanClasses * slots * H);
+    fb.bucket_start.resize(H + 1);
+    fb.class_begin.resize(kSpanClasses * H);
+    std::uint32_t total = 0;
+    for (std::size_t b = 0; b < H; ++b) {
+        fb.bucket_start[b] = total;
+        for (int span = kSpanClasses - 1; span >= 1; --span) {
+            fb.class_begin[b * kSpanClasses + static_cast<std::size_t>(span)] = total;
+            for (std::size_t t = 0; t < slots; ++t) {
+                fb.offsets[count_index(span, t, b)] = total;
+                total += fb.counts[count_index(span, t, b)];
+            }
+        }
+        fb.class_begin[b * kSpanClasses] = total; // end of the bucket
+    }
+    fb.bucket_start[H] = total;
+    // Per line, the triangles it cuts: those of buckets b ≤ y that cover at least y − b + 1
+    // lines (class 15 counted as lasting to the end). The multi-line part is the most an
+    // active list can hold, reserved up front so the lists never grow by doubling; the whole
+    // is the work estimate the scan lines are shared out by.
+    std::size_t max_active = 0;
+    std::vector<double> work_before(H + 1, 0.0); // estimated work of lines [0, y)
+    {
+        auto class_count = [&](std::size_t b, int span) {
+            const std::uint32_t* c = fb.class_begin.data() + b * kSpanClasses;
+            return static_cast<std::size_t>(c[span - 1] - c[span]);
+        };
+        std::size_t long_so_far = 0;
+        for (std::size_t y = 0; y < H; ++y) {
+            long_so_far += class_count(y, kSpanClasses - 1);
+            std::size_t n = long_so_far;
+            for (std::size_t b = y >= kSpanClasses - 2 ? y - (kSpanClasses - 2) : 0; b <= y; ++b) {
+                for (int span = std::max<int>(static_cast<int>(y - b) + 1, 2); span < kSpanClasses - 1; ++span) {
+                    n += class_count(b, span);
+                }
+            }
+            max_active = std::max(max_active, n);
+            // + 1: a line with no triangle still costs a little.
+            work_before[y + 1] = work_before[y] + static_cast<double>(n + class_count(y, 1)) + 1.0;
+        }
+    }
     // Pass 2: the same triangles, placed with the offsets.
-    std::vector<std::uint32_t> y_buckets(total);
+    fb.y_buckets.resize(total);
     run_threads(threads, [&](unsigned t) {
-        const std::size_t lo = base_triangles * t / threads, hi = base_triangles * (t + 1) / threads;
-        std::uint32_t* offset = offsets.data() + t * H;
+        const std::size_t lo = split(t), hi = split(t + 1);
+        std::uint32_t* offsets = fb.offsets.data();
+        const std::uint16_t* clip_info = fb.clip_info.data();
+        std::uint32_t* y_buckets = fb.y_buckets.data();
         for (std::size_t i = lo; i < hi; ++i) {
-            if (clip_info[i] != kDropped) y_buckets[offset[clip_info[i]]++] = static_cast<std::uint32_t>(i);
+            if (clip_info[i] == kDropped) continue;
+            const int span = static_cast<int>((fb.span_class[i / 16] >> (4 * (i % 16))) & 15);
+            y_buckets[offsets[count_index(span, t, clip_info[i])]++] = codes_[i];
         }
     });
     for (std::size_t i = 0; i < extra_count; ++i) {
-        if (extra_bucket[i] >= 0) {
-            y_buckets[offsets[threads * H + static_cast<std::size_t>(extra_bucket[i])]++] =
-                static_cast<std::uint32_t>(base_triangles + i);
-        }
+        if (extra_rows[i].first < 0) continue;
+        const auto row = static_cast<std::size_t>(extra_rows[i].first);
+        fb.y_buckets[fb.offsets[count_index(span_class(extra_rows[i]), threads, row)]++] =
+            extra_code(i, geo.extra_triangles[i].toggles);
     }
     const double t_buckets = seconds_since(t_buckets_start);
     const auto t_scan_start = std::chrono::steady_clock::now();
@@ -736,15 +1012,15 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     Image image(width, height);
     FrameContext ctx;
     ctx.geo = &geo;
-    ctx.triangles = &triangles_;
-    for (std::size_t b = 0; b < ranges_.size(); ++b) {
-        ctx.range_begin.push_back(ranges_[b].begin);
-        ctx.range_surface_end.push_back(ranges_[b].surface_end);
-        ctx.range_grid.push_back(static_cast<std::uint32_t>(b));
+    ctx.mesh = &mesh_;
+    for (const CellRange& r : blocks_) {
+        ctx.block_begin.push_back(r.begin);
+        ctx.block_end.push_back(r.end);
     }
-    ctx.base_triangles = base_triangles;
-    ctx.y_buckets = &y_buckets;
-    ctx.bucket_start = &bucket_start;
+    ctx.y_buckets = fb.y_buckets.data();
+    ctx.bucket_start = fb.bucket_start.data();
+    ctx.class_begin = fb.class_begin.data();
+    ctx.max_active = max_active;
     ctx.rect = rect;
     ctx.width = width;
     ctx.height = height;
@@ -755,22 +1031,33 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     ctx.tf = &tf;
     ctx.image = &image;
 
-    std::atomic<int> next_task{0};
-    const int tasks = (height + lines_per_task - 1) / lines_per_task;
-    std::vector<std::size_t> crossings(threads, 0), lost(threads, 0), active_bytes(threads, 0), x_bytes(threads, 0);
+    // Scan lines are handed out in chunks of consecutive lines through one atomic counter (no
+    // lock). A worker starting a chunk re-reads the triangles still active from lines it did
+    // not render, so chunks are large at first and shrink as the work left does: each takes
+    // 1/(2·threads) of the estimated work left, at least 2 lines (or lines_per_task each).
+    const int row_end = rect.row_hi + 1;
+    auto chunk_end = [&](int start) {
+        if (options.lines_per_task > 0) return std::min(start + options.lines_per_task, row_end);
+        const double from = work_before[static_cast<std::size_t>(start)];
+        const double target = from + (work_before[static_cast<std::size_t>(row_end)] - from) / (2.0 * threads);
+        const auto it = std::lower_bound(work_before.begin() + start + 1, work_before.begin() + row_end, target);
+        const int end = static_cast<int>(it - work_before.begin());
+        return std::min(std::max(end, start + 2), row_end);
+    };
+    std::atomic<int> next_line{rect.row_lo};
+    if (fb.workers.size() < threads) fb.workers.resize(threads);
+    std::vector<std::size_t> crossings(threads, 0), lost(threads, 0);
     run_threads(threads, [&](unsigned t) {
-        Worker worker(ctx);
-        for (;;) {
-            const int task = next_task.fetch_add(1, std::memory_order_relaxed);
-            if (task >= tasks) break;
-            const int y0 = std::max(task * lines_per_task, rect.row_lo);
-            const int y1 = std::min((task + 1) * lines_per_task, rect.row_hi + 1);
-            for (int y = y0; y < y1; ++y) worker.process_line(y);
+        Worker worker(ctx, fb.workers[t]);
+        int start = next_line.load(std::memory_order_relaxed);
+        while (start < row_end) {
+            const int end = chunk_end(start);
+            if (!next_line.compare_exchange_weak(start, end, std::memory_order_relaxed)) continue;
+            for (int y = start; y < end; ++y) worker.process_line(y);
+            start = next_line.load(std::memory_order_relaxed);
         }
         crossings[t] = worker.crossings;
         lost[t] = worker.lost;
-        active_bytes[t] = worker.peak_active_bytes;
-        x_bytes[t] = worker.peak_x_bytes;
     });
     const double t_scan = seconds_since(t_scan_start);
 
@@ -781,29 +1068,48 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         s.seconds_transform = t_transform;
         s.seconds_y_buckets = t_buckets;
         s.seconds_scan = t_scan;
-        s.seconds_total = seconds_since(t_start);
         s.triangles_total = base_triangles;
         s.triangles_surface = surface_triangles_;
         s.triangles_active = total;
         s.triangles_near_clipped = near_clipped;
         s.cap_triangles = cap_triangles;
+        ScanlineMemory& m = s.memory;
         for (unsigned t = 0; t < threads; ++t) {
             s.crossings += crossings[t];
             s.lost_segments += lost[t];
-            s.memory.active_lists += active_bytes[t];
-            s.memory.x_buckets += x_bytes[t];
         }
-        ScanlineMemory& m = s.memory;
+        for (const WorkerBuffers& w : fb.workers) {
+            m.active_lists += w.active_bytes();
+            m.x_buckets += w.x_bytes();
+        }
         m.mesh = mesh_.memory_bytes();
-        m.triangles = memory_bytes() + geo.extra_triangles.capacity() * sizeof(ExtraTriangle) +
-                      geo.extra_vertices.capacity() * sizeof(Vertex);
-        m.transformed_points = geo.points.capacity() * sizeof(ScreenPoint);
-        m.y_buckets = (y_buckets.capacity() + bucket_start.capacity() + counts.capacity() + offsets.capacity()) *
-                      sizeof(std::uint32_t);
-        m.bucket_clip_info = clip_info.capacity() * sizeof(std::uint16_t);
-        m.frame_buffer = image.pixels.capacity() * sizeof(glm::vec4);
+        m.triangles = memory_bytes() + bytes(geo.extra_triangles) + bytes(geo.extra_vertices);
+        m.transformed_points = bytes(geo.points);
+        m.y_buckets = bytes(fb.y_buckets) + bytes(fb.bucket_start) + bytes(fb.class_begin) + bytes(fb.counts) +
+                      bytes(fb.offsets);
+        m.bucket_clip_info = bytes(fb.clip_info) + bytes(fb.span_class);
+        m.frame_buffer = bytes(image.pixels);
     }
+    geo.points.swap(fb.points);
+    {
+        std::lock_guard<std::mutex> lock(spare_mutex_);
+        if (!spare_) spare_ = std::move(buffers);
+    }
+    if (stats) stats->seconds_total = seconds_since(t_start);
     return image;
+}
+
+ScanlineRenderer::~ScanlineRenderer() = default;
+
+ScanlineRenderer::ScanlineRenderer(const ScanlineRenderer& other)
+    : mesh_(other.mesh_), codes_(other.codes_), blocks_(other.blocks_),
+      surface_triangles_(other.surface_triangles_), bounds_(other.bounds_) {}
+
+ScanlineRenderer::ScanlineRenderer(ScanlineRenderer&& other) noexcept
+    : mesh_(other.mesh_), codes_(std::move(other.codes_)), blocks_(std::move(other.blocks_)),
+      surface_triangles_(other.surface_triangles_), bounds_(other.bounds_) {
+    std::lock_guard<std::mutex> lock(other.spare_mutex_);
+    spare_ = std::move(other.spare_);
 }
 
 } // namespace fx

@@ -1,0 +1,288 @@
+// Based on: Max, Williams & Silva 2000, §II (polyhedron projection and "over" back to front),
+// §III (visibility sorting), §V (view-dependent subdivision) — the GL half of the two
+// Absorption flavours; shaders absorption.{vert,frag}, absorption_exact.{vert,frag},
+// absorption_items.glsl, absorption_resolve.frag.
+#include "absorption/absorption_pass.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <thread>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "fx/error.hpp"
+#include "fx/mesh_validation.hpp"
+#include "fx/segment_integral.hpp"
+#include "gl/gl_check.hpp"
+#include "gl/shader_library.hpp"
+
+namespace fx {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Uniform locations (project.glsl 0–4; the path's own from 6).
+enum Uniform : GLint {
+    kViewProjection = 0,
+    kEye = 1,
+    kForward = 2,
+    kNear = 3,
+    kOrthographic = 4,
+    kSlotVertices = 6,
+    kPreintegration = 7,
+    kPreintegrationSize = 8,
+    kOpacitySize = 9, // absorption.frag
+    kSceneDepthMode = 20, // project.glsl, as the renderer sets them for its own programs
+    kSceneDepthRange = 21,
+    kSceneOrigin = 22,
+};
+constexpr GLuint kFrameBinding = 3;    // storage buffer: items (exact) or vertices (classic)
+constexpr GLuint kOpacityUnit = 1;     // 2-D opacity table
+constexpr GLuint kPreintegrationUnit = 2;
+constexpr std::uint32_t kWholeCell = 0xFFFFFFFFu;
+
+// The 2-D table of §II: 1024² keeps its bilinear error below 4e-5 in α with K = 12 (see
+// build_opacity_table); K = 12 leaves e^(−12) = 6e-6 of the light behind a polygon whose
+// optical depth reaches or exceeds it.
+constexpr int kOpacitySizeTexels = 1024;
+// Pre-integration table: 128 scalar samples per end and 64 lengths (16 MiB of RGBA32F).
+constexpr std::size_t kPreScalars = 128, kPreLengths = 64;
+// Fewer cells than this are projected on the calling thread alone.
+constexpr std::size_t kCellsPerThread = 4096;
+
+} // namespace
+
+AbsorptionPass::AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& geometry)
+    : mesh_(mesh), geometry_(geometry), subdivision_(mesh) {
+    // The longest chord of a convex cell is at most its bounding-box diagonal. Faces must wind
+    // outward: front and back, entry and exit are told apart by it, and an inverted cell would
+    // be drawn inside out rather than rejected.
+    double longest = 0.0;
+    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+        const std::uint32_t* cv = mesh.cell_vertices(c);
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int i = 0; i < cell_vertex_count(mesh.cell_types[c]); ++i) {
+            const glm::dvec3 p(geometry.positions[cv[i]]);
+            lo = glm::min(lo, p), hi = glm::max(hi, p);
+        }
+        const double diagonal = glm::length(hi - lo);
+        longest = std::max(longest, diagonal);
+        if (cell_signed_volume(mesh, c) < -1e-9 * diagonal * diagonal * diagonal)
+            throw Error("absorption: cell " + std::to_string(c) + " (" + cell_type_name(mesh.cell_types[c]) +
+                        ") is inverted: its faces wind inward (fx::orient_cells fixes the mesh)");
+    }
+    max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
+
+    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
+    classic_ = lib.link({"absorption.vert", "absorption.frag"});
+    exact_ = lib.link({"absorption_exact.vert", "absorption_exact.frag"});
+    resolve_ = lib.link({"fullscreen.vert", "absorption_resolve.frag"});
+    vao_ = gl::VertexArray::create();
+}
+
+AbsorptionPass::~AbsorptionPass() = default;
+
+void AbsorptionPass::set_transfer_function(const TransferFunction& tf) {
+    tf_ = tf;
+    builders_.clear(); // they evaluate the old function
+    preintegration_ready_ = false;
+}
+
+std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_capacity_ + index_capacity_; }
+
+const VisibilitySort& AbsorptionPass::sort_for(SortMethod method, CellRenderStats& stats) {
+    auto it = sorts_.find(method);
+    if (it == sorts_.end()) {
+        const auto t0 = Clock::now();
+        it = sorts_.emplace(method, std::make_unique<VisibilitySort>(subdivision_.cells(), method)).first;
+        stats.setup_ms += ms_since(t0);
+    }
+    return *it->second;
+}
+
+void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, bool exact,
+                             const CellRenderOptions& options, CellRenderStats& stats) {
+    auto t0 = Clock::now();
+    // §V: problem cells for this view; the sorts are built on the working mesh, so a new one
+    // invalidates them.
+    if (subdivision_.update(camera)) sorts_.clear();
+    const CellMesh& cells = subdivision_.cells();
+    stats.subdivision_ms = ms_since(t0);
+    stats.problem_cells = subdivision_.subdivided_cells();
+
+    const VisibilitySort& sort = sort_for(options.sort, stats);
+    t0 = Clock::now();
+    SortStats sort_stats;
+    sort.sort(camera, order_, &sort_stats);
+    stats.sort_ms = ms_since(t0);
+    stats.sort_cycles = sort_stats.cycles;
+
+    t0 = Clock::now();
+    if (exact) {
+        items_.resize(order_.size());
+        std::uint32_t most = 1;
+        for (std::size_t i = 0; i < order_.size(); ++i) {
+            const std::uint32_t w = order_[i];
+            if (subdivision_.is_piece(w)) {
+                const std::uint32_t* cv = cells.cell_vertices(w);
+                items_[i] = glm::uvec4(cv[0], cv[1], cv[2], cv[3]);
+                most = std::max(most, 4u);
+            } else {
+                const std::uint32_t c = subdivision_.parent(w);
+                items_[i] = glm::uvec4(c, kWholeCell, 0u, 0u);
+                most = std::max(most, geometry_.cell_first_triangle[c + 1] - geometry_.cell_first_triangle[c]);
+            }
+        }
+        slot_vertices_ = int(3 * most);
+        stats.cells_drawn = items_.size();
+        stats.projection_ms = ms_since(t0);
+        return;
+    }
+
+    // Classic: the projected subdivisions, in order, split into contiguous runs per thread.
+    if (classic_settings_.slice_breakpoints != options.slice_breakpoints) {
+        classic_settings_.slice_breakpoints = options.slice_breakpoints;
+        builders_.clear();
+    }
+    const std::size_t n = order_.size();
+    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t threads = std::clamp<std::size_t>(n / kCellsPerThread, 1, std::min(hw, 16u));
+    while (builders_.size() < threads)
+        builders_.push_back(std::make_unique<ClassicAbsorptionBuilder>(geometry_, tf_, classic_settings_));
+    parts_.resize(threads);
+    const ProjectorView view = make_projector_view(geometry_, camera);
+    const ProjectionFrame frame = make_projection_frame(view, camera, double(viewport.width) / double(viewport.height));
+    std::vector<std::exception_ptr> errors(threads);
+    auto work = [&](std::size_t t) {
+        try {
+            const std::size_t b = n * t / threads, e = n * (t + 1) / threads;
+            parts_[t].clear();
+            builders_[t]->set_view(view, frame);
+            builders_[t]->append(cells, order_.data() + b, e - b, parts_[t]);
+        } catch (...) {
+            errors[t] = std::current_exception();
+        }
+    };
+    std::vector<std::thread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
+    work(0);
+    for (std::thread& th : pool) th.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+    std::size_t pieces = 0, culled = 0, polygons = 0;
+    for (std::size_t t = 0; t < parts_.size(); ++t) {
+        if (t >= threads) parts_[t].clear();
+        pieces += parts_[t].pieces, culled += parts_[t].culled_cells, polygons += parts_[t].polygons;
+    }
+    stats.cells_drawn = n - culled;
+    stats.polygons = polygons;
+    stats.pieces = pieces;
+    stats.projection_ms = ms_since(t0);
+}
+
+void AbsorptionPass::upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (bytes > capacity || !buffer) {
+        capacity = std::max(bytes, capacity * 3 / 2);
+        buffer = gl::make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (data) glNamedBufferSubData(buffer.id(), 0, GLsizeiptr(bytes), data);
+    FX_GL_CHECK("absorption: upload");
+}
+
+void AbsorptionPass::ensure_opacity_table() {
+    if (opacity_ready_) return;
+    const OpacityTable table = build_opacity_table(kOpacitySizeTexels, classic_settings_.max_product);
+    opacity_ = gl::make_texture_2d(GL_R32F, table.size, table.size);
+    glTextureSubImage2D(opacity_.id(), 0, 0, 0, table.size, table.size, GL_RED, GL_FLOAT, table.values.data());
+    FX_GL_CHECK("absorption: opacity table");
+    table_bytes_ += table.values.size() * sizeof(float);
+    opacity_ready_ = true;
+}
+
+void AbsorptionPass::ensure_preintegration_table() {
+    if (preintegration_ready_) return;
+    if (tf_.points().empty()) throw Error("absorption-exact: the transfer function has no points");
+    const PreintegrationTable table = build_preintegration_table(tf_, kPreScalars, kPreLengths, max_length_);
+    if (!preintegration_) {
+        preintegration_ = gl::Texture::create(GL_TEXTURE_3D);
+        glTextureStorage3D(preintegration_.id(), 1, GL_RGBA32F, GLsizei(table.n_s), GLsizei(table.n_s),
+                           GLsizei(table.n_l));
+        glTextureParameteri(preintegration_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(preintegration_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        table_bytes_ += table.rgba.size() * sizeof(glm::vec4);
+    }
+    glTextureSubImage3D(preintegration_.id(), 0, 0, 0, 0, GLsizei(table.n_s), GLsizei(table.n_s), GLsizei(table.n_l),
+                        GL_RGBA, GL_FLOAT, table.rgba.data());
+    FX_GL_CHECK("absorption: pre-integration table");
+    s_lo_ = table.s_lo;
+    s_per_unit_ = double(table.n_s - 1) / (table.s_hi - table.s_lo);
+    l_per_unit_ = double(table.n_l - 1) / table.max_length;
+    preintegration_ready_ = true;
+}
+
+void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
+                          CellRenderStats& stats) {
+    // Scene depth: the renderer binds the texture (unit 3); the mode and ranges are per program.
+    const GLint depth_mode = options.scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
+    for (const gl::Program* p : {&classic_, &exact_}) {
+        glProgramUniform1i(p->id(), kSceneDepthMode, depth_mode);
+        glProgramUniform2f(p->id(), kSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
+        glProgramUniform2i(p->id(), kSceneOrigin, viewport.x, viewport.y);
+    }
+    glEnablei(GL_BLEND, 0);
+    glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front
+    if (exact) {
+        ensure_preintegration_table();
+        upload(frame_, frame_capacity_, items_.data(), items_.size() * sizeof(glm::uvec4));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFrameBinding, frame_.id());
+        const ProjectorView view = make_projector_view(geometry_, camera);
+        const glm::mat4 vp(camera.projection_matrix(double(viewport.width) / double(viewport.height)) * view.view);
+        const glm::vec3 eye(view.eye), forward(view.forward);
+        const GLuint p = exact_.id();
+        glProgramUniformMatrix4fv(p, kViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
+        glProgramUniform3fv(p, kEye, 1, glm::value_ptr(eye));
+        glProgramUniform3fv(p, kForward, 1, glm::value_ptr(forward));
+        glProgramUniform1f(p, kNear, float(view.near_distance));
+        glProgramUniform1i(p, kOrthographic, view.orthographic ? 1 : 0);
+        glProgramUniform1i(p, kSlotVertices, slot_vertices_);
+        glProgramUniform3f(p, kPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
+        glProgramUniform3i(p, kPreintegrationSize, GLint(kPreScalars), GLint(kPreScalars), GLint(kPreLengths));
+        glBindTextureUnit(kPreintegrationUnit, preintegration_.id());
+        glBindSampler(kPreintegrationUnit, 0);
+        glUseProgram(p);
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
+        if (!items_.empty()) {
+            glDrawArrays(GL_TRIANGLES, 0, GLsizei(items_.size() * std::size_t(slot_vertices_)));
+            stats.draw_calls += 1;
+        }
+        FX_GL_CHECK("absorption-exact draw");
+        return;
+    }
+    ensure_opacity_table();
+    glBindTextureUnit(kOpacityUnit, opacity_.id());
+    glBindSampler(kOpacityUnit, 0);
+    glProgramUniform1i(classic_.id(), kOpacitySize, kOpacitySizeTexels);
+    glUseProgram(classic_.id());
+    glDisable(GL_CULL_FACE);
+    glBindVertexArray(vao_.id());
+    for (const ClassicGeometry& part : parts_) {
+        if (part.indices.empty()) continue;
+        upload(frame_, frame_capacity_, part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
+        const GLuint old_index = index_.id();
+        upload(index_, index_capacity_, part.indices.data(), part.indices.size() * sizeof(std::uint32_t));
+        if (index_.id() != old_index) glVertexArrayElementBuffer(vao_.id(), index_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFrameBinding, frame_.id());
+        glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
+        stats.draw_calls += 1;
+    }
+    FX_GL_CHECK("absorption draw");
+}
+
+} // namespace fx

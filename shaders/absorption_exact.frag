@@ -1,0 +1,60 @@
+#version 450 core
+// Based on: Max, Williams & Silva 2000, §II (the volume density model, composited back to
+// front with "over") made exact per fragment. Drawn on the BACK faces of every item (front
+// faces culled), items in visibility order: each fragment is where its ray leaves the cell.
+// The segment inside the cell comes from cell_segment.glsl (exact entry through the cell's
+// planes, clamped to the near plane — so a camera inside the mesh composites only what lies
+// ahead — and to the scene's surface where one is given); colour and opacity come from the
+// pre-integration table over (s_front, s_back, length) built by fx::build_preintegration_table
+// from the exact integrals, interpolated trilinearly here in full float. Output premultiplied,
+// into a float target with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA).
+#include "project.glsl"
+#include "absorption_items.glsl"
+#include "cell_segment.glsl"
+
+layout(location = 0) in vec3 v_position;
+layout(location = 1) in float v_scalar;
+layout(location = 2) flat in uvec4 v_item;
+
+// x = s_front, y = s_back (n_s samples of [s_lo, s_hi]), z = length (n_l samples of [0, max]).
+layout(binding = 2) uniform sampler3D u_preintegration;
+layout(location = 7) uniform vec3 u_preint;        // s_lo, samples per unit s, samples per unit length
+layout(location = 8) uniform ivec3 u_preint_size; // n_s, n_s, n_l
+
+layout(location = 0) out vec4 o_color;
+
+vec4 preintegrated(float s_front, float s_back, float l) {
+    vec3 x = vec3((s_front - u_preint.x) * u_preint.y, (s_back - u_preint.x) * u_preint.y, l * u_preint.z);
+    x = clamp(x, vec3(0.0), vec3(u_preint_size - 1)); // held end values; longer than any cell: the last
+    ivec3 i = min(ivec3(x), u_preint_size - 2);
+    vec3 f = x - vec3(i);
+    vec4 c00 = mix(texelFetch(u_preintegration, i, 0), texelFetch(u_preintegration, i + ivec3(1, 0, 0), 0), f.x);
+    vec4 c10 = mix(texelFetch(u_preintegration, i + ivec3(0, 1, 0), 0), texelFetch(u_preintegration, i + ivec3(1, 1, 0), 0), f.x);
+    vec4 c01 = mix(texelFetch(u_preintegration, i + ivec3(0, 0, 1), 0), texelFetch(u_preintegration, i + ivec3(1, 0, 1), 0), f.x);
+    vec4 c11 = mix(texelFetch(u_preintegration, i + ivec3(0, 1, 1), 0), texelFetch(u_preintegration, i + ivec3(1, 1, 1), 0), f.x);
+    return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+}
+
+int cell_triangle_count() { return item_triangle_count(v_item); }
+CellTriangle cell_triangle(int k) {
+    CellTriangle t;
+    if (v_item.y == kWholeCell) {
+        Triangle tri = triangles[cell_first_triangle[v_item.x] + uint(k)];
+        t.v = tri.v.xyz;
+        t.plane = tri.plane;
+    } else { // a tetrahedron of a subdivided cell: its planes are made here
+        t.v = item_triangle_points(v_item, k);
+        vec3 a = points[t.v.x].xyz, b = points[t.v.y].xyz, c = points[t.v.z].xyz;
+        vec3 n = cross(b - a, c - a);
+        float len = length(n);
+        t.plane = len > 0.0 ? vec4(n / len, dot(n / len, (a + b + c) / 3.0)) : vec4(0.0);
+    }
+    return t;
+}
+
+void main() {
+    Ray ray = pixel_ray(v_position);
+    float t_exit = dot(v_position - ray.origin, ray.dir);
+    CellSegment segment = cell_segment(ray, t_exit, v_scalar);
+    o_color = preintegrated(segment.s_in, segment.s_out, segment.length);
+}
