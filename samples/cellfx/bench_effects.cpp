@@ -16,7 +16,7 @@
 // not drawn, over black) are compared with the scan-line reference of the effects' own meshes
 // (emission summed; the absorbing fog drawn first, then the emissive effects added): mean and
 // worst error in percent of the reference's peak. Classic pcp is compared with the reference
-// clamped to its 8-bit range.
+// clamped to its 8-bit range; the absorption paths with the emission-absorption reference.
 //
 // Options: --scenes a,b (all), --frames N (8, after 2 warm-up frames), --size WxH (the scenes'),
 //          --paths a,b (all), --skip-verify.
@@ -75,6 +75,18 @@ fx::Camera camera_at(const terrain::Scene& scene, int frame, double dt) {
     return cam;
 }
 
+bool absorption_path(fx::RenderPath path) {
+    return path != fx::RenderPath::Pcp && path != fx::RenderPath::PcpExact && path != fx::RenderPath::Mip;
+}
+
+// The optical model a path draws an effect with: MIP the maximum; the sorted absorption paths,
+// and pcp-exact for an absorbing effect, emission and absorption; otherwise emission only.
+fx::OpticalModel optical_model(fx::RenderPath path, bool absorb) {
+    if (path == fx::RenderPath::Mip) return fx::OpticalModel::Maximum;
+    if (absorption_path(path) || (absorb && path == fx::RenderPath::PcpExact)) return fx::OpticalModel::EmissionAbsorption;
+    return fx::OpticalModel::Emission;
+}
+
 // Scan-line reference of the frame's effects (their current meshes, moved into the world).
 fx::Image reference(terrain::SceneRenderer& renderer, const fx::Camera& cam, int w, int h, fx::RenderPath path) {
     fx::Image sum(w, h, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
@@ -96,9 +108,7 @@ fx::Image reference(terrain::SceneRenderer& renderer, const fx::Camera& cam, int
         const fx::ScalarRange r = e.scalar_range();
         if (tf.normalized()) tf = tf.rescaled(r.lo, std::max(double(r.hi), r.lo + 1e-6 * std::max(1.0, std::abs(double(r.lo)))));
         fx::ScanlineOptions so;
-        so.model = path == fx::RenderPath::Mip                                ? fx::OpticalModel::Maximum
-                   : (absorb && path == fx::RenderPath::PcpExact)             ? fx::OpticalModel::EmissionAbsorption
-                                                                              : fx::OpticalModel::Emission;
+        so.model = optical_model(path, absorb);
         const fx::Image layer = fx::ScanlineRenderer(world).render(cam, w, h, *world.find_scalar(e.scalar_name()), tf, so);
         // Drawn in this order by the renderer: "over" the sum so far (emission has alpha 0: adds).
         for (std::size_t i = 0; i < sum.pixels.size(); ++i) {
@@ -249,13 +259,16 @@ int bench_effects(const std::vector<std::string>& args) {
                 renderer.set_terrain_drawn(false); // the same effect meshes (no time passes), alone
                 renderer.set_background(glm::dvec3(0.0));
                 const fx::Image alone = renderer.render_to_image(last_camera, w, h);
-                const int model = path == fx::RenderPath::Mip ? 1 : path == fx::RenderPath::PcpExact ? 2 : 0;
+                // One reference per way of drawing (pcp and pcp-exact differ only for absorbing effects).
+                const int model = path == fx::RenderPath::Mip ? 1 : path == fx::RenderPath::PcpExact ? 2 : absorption_path(path) ? 3 : 0;
                 if (!references.count(model)) references[model] = reference(renderer, last_camera, w, h, path);
                 row.error = compare(alone, references[model], path == fx::RenderPath::Pcp);
                 row.verified = true;
                 // Exact paths: the scan-line figures of the frame tests (≤ 0.05% of peak on average);
-                // here a generous 1% so only a wrong picture fails. Classic pcp: 8-bit passes, 10%.
-                const double bound = path == fx::RenderPath::Pcp ? 0.10 : 0.01;
+                // here a generous 1% so only a wrong picture fails. The classic paths (pcp's 8-bit
+                // passes, absorption's per-cell vertex optics): 10%.
+                const bool classic = path == fx::RenderPath::Pcp || path == fx::RenderPath::Absorption;
+                const double bound = classic ? 0.10 : 0.01;
                 if (!row.error.finite || !(row.error.peak > 0.0) || row.error.mean > bound * row.error.peak)
                     throw fx::Error("bench effects: " + name + " [" + row.path + "]: the effects differ from the scan-line reference (mean " +
                                     std::to_string(100.0 * row.error.mean / std::max(row.error.peak, 1e-30)) + "% of peak)");
