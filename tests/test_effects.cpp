@@ -375,6 +375,16 @@ TEST_CASE("Campfire frames match the scan-line reference", "[gl][effects][campfi
     const fx::TransferFunction tf = fire_tf(0.04);
     for (fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::Mip, fx::RenderPath::Pcp})
         effects_test::effect_vs_scanline("effect_campfire", fire, tf, cam, path, 20);
+    // Sorted emission–absorption, the fire dense enough to dim its own far side (the core's
+    // optical depth ~1). Classic absorption per pixel 15% of peak (measured 14.7%; mean and
+    // pixel-fraction limits as stated): the noise makes the temperature cross up to four of
+    // fire.json's breakpoints inside one cell, σ rising ×1.5 to ×5 from one to the next; the path
+    // slices cells at breakpoints (§V) but its per-vertex colour and α (§II) are linear across
+    // each slice — the same effect docs/absorption.md measures at ~15% for steps.
+    const fx::TransferFunction dense = fire_tf(0.15);
+    effects_test::effect_vs_scanline("effect_campfire", fire, dense, cam, fx::RenderPath::AbsorptionExact, 20);
+    effects_test::effect_vs_scanline("effect_campfire", fire, dense, cam, fx::RenderPath::Absorption, 20, false, 96,
+                                     0.15f, 0.15f);
 }
 
 TEST_CASE("Search light frames match the scan-line reference, far from the origin and turned", "[gl][effects][search_light]") {
@@ -389,7 +399,8 @@ TEST_CASE("Search light frames match the scan-line reference, far from the origi
     light.update(view_at(0.0, cam));
     REQUIRE(light.transform()[3][0] == 5000.0); // the mesh stays local, the camera moves
     // Beam rays cross up to ~8 cells; σ small enough for 8-bit pcp.
-    for (fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::Mip, fx::RenderPath::Pcp})
+    for (fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::Mip, fx::RenderPath::Pcp,
+                                fx::RenderPath::AbsorptionExact, fx::RenderPath::Absorption})
         effects_test::effect_vs_scanline("effect_search_light", light, beam_tf(0.08, 1.0), cam, path, 8);
 }
 
