@@ -24,7 +24,10 @@ int run_bench(const std::vector<std::string>& args) {
                   "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps\n"
                   "  absorption absorption / absorption-exact paths for every sort: blunt fin, ~1M tetrahedra, SPX\n"
                   "             options: --size WxH (256x256), --frames N (5), --cells N (1000000), --sort A,B,\n"
-                  "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE");
+                  "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE\n"
+                  "  effects    shipped effect scenes (campfire, searchlight, laser, fog_valley, aurora) per render path:\n"
+                  "             ms/frame, GPU ms per stage, verified against the scan-line reference; options:\n"
+                  "             --scenes a,b, --paths a,b, --frames N (8), --size WxH, --skip-verify");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
@@ -33,7 +36,8 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "sort") return bench_sort(rest);
     if (args[0] == "terrain") return bench_terrain(rest);
     if (args[0] == "absorption") return bench_absorption(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain or absorption)");
+    if (args[0] == "effects") return bench_effects(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain, absorption or effects)");
 }
 
 } // namespace cellfx_cli

@@ -24,6 +24,9 @@ int bench_terrain(const std::vector<std::string>& args);
 // `cellfx bench absorption`: the absorption paths for every sort (Max, Williams & Silva 2000).
 int bench_absorption(const std::vector<std::string>& args);
 
+// `cellfx bench effects`: the shipped effect scenes per render path, GPU-timed per stage, verified.
+int bench_effects(const std::vector<std::string>& args);
+
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);
 
