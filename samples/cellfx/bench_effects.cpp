@@ -205,7 +205,8 @@ int bench_effects(const std::vector<std::string>& args) {
             terrain::SceneRenderer r(scene);
             for (const std::string& e : r.effect_names()) r.set_enabled(e, false);
             r.set_timing(true);
-            Row row{name, "(effects off)"};
+            Row row;
+            row.scene = name, row.path = "(effects off)";
             std::vector<double> ms, gpu, update, surface;
             for (int f = 0; f < kWarmup + frames; ++f) {
                 r.set_time(f * kDt);
@@ -225,7 +226,8 @@ int bench_effects(const std::vector<std::string>& args) {
             for (const std::string& e : renderer.effect_names()) renderer.set_path(e, path);
             renderer.set_timing(true);
             std::vector<double> ms, gpu, update, upload, surface, effects, composite;
-            Row row{name, fx::render_path_name(path)};
+            Row row;
+            row.scene = name, row.path = fx::render_path_name(path);
             fx::Image frame;
             for (int f = 0; f < kWarmup + frames; ++f) {
                 const fx::Camera cam = camera_at(scene, f, kDt);
