@@ -64,7 +64,7 @@ TEST_CASE("Scene errors name the file and the key", "[terrain][scene]") {
                       Catch::Contains("test.json: lod.pixel_error: must be positive"));
     CHECK_THROWS_WITH(parse(small_scene("\"render\": {\"width\": \"wide\"},")),
                       Catch::Contains("test.json: render.width: expected an integer"));
-    CHECK_THROWS_WITH(parse(small_scene("\"effects\": [],")), Catch::Contains("test.json: effects: unknown key"));
+    CHECK_THROWS_WITH(parse(small_scene("\"effects\": {},")), Catch::Contains("test.json: effects: expected an array"));
     CHECK_THROWS_WITH(parse(small_scene("", R"({"valley": {"level": 5, "max_thickness": 30},
                                                 "transfer_function": "../transfer_functions/fog.json", "path": "pcp-exakt"})")),
                       Catch::Contains("test.json: fog.path: unknown render path 'pcp-exakt'"));

@@ -24,6 +24,8 @@ int bench_terrain(const std::vector<std::string>& args);
 // `cellfx bench absorption`: the absorption paths for every sort (Max, Williams & Silva 2000).
 int bench_absorption(const std::vector<std::string>& args);
 
+// `cellfx bench effects`: the shipped effect scenes per render path, GPU-timed per stage, verified.
+int bench_effects(const std::vector<std::string>& args);
 // `cellfx bench accuracy`: every path and flavour, ms per frame against error (CSV, Markdown, plot).
 int bench_accuracy(const std::vector<std::string>& args);
 

@@ -1,4 +1,5 @@
 // `cellfx render FILE [Q_FILE] --path NAME ...`: one frame of a mesh, written to PNG or PFM.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <functional>
@@ -42,15 +43,33 @@ constexpr const char* kUsage =
     "  --background R,G,B background colour in [0,1] (default 0,0,0)\n"
     "  --threads N        scan-line worker threads (default: all cores)\n"
     "\n"
-    "usage: cellfx render SCENE.json --out FILE.png|FILE.pfm [options]   (terrain scenes, docs/terrain.md)\n"
-    "  --path NAME        override the fog's render path: pcp, pcp-exact, mip\n"
-    "  --camera SPEC      override the scene's camera (as above)\n"
+    "usage: cellfx render SCENE.json --out FILE.png|FILE.pfm [options]   (scenes: docs/terrain.md, docs/effects.md)\n"
+    "  --path NAME        render every effect (fog, aurora, campfire, ...) with this GPU path\n"
+    "  --time T           scene time in seconds (animation, camera path; default 0)\n"
+    "  --camera SPEC      override the scene's camera or camera path (as above)\n"
+    "  --disable A,B      switch these effects off; --only A,B switches all others off\n"
+    "  --no-terrain       do not draw the terrain surface (it still carries the fog)\n"
     "  --size WxH         override the scene's image size\n"
     "  --pixel-error PX   override the LOD's screen-space error bound";
 
-// `cellfx render SCENE.json`: a terrain scene (terrain/scene.hpp) in a headless context.
+// Comma-separated names ("fire,beam").
+std::vector<std::string> split_names(const std::string& list) {
+    std::vector<std::string> names;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t comma = list.find(',', start);
+        const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (!item.empty()) names.push_back(item);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return names;
+}
+
+// `cellfx render SCENE.json`: a scene (terrain/scene.hpp: terrain, fog, aurora, effects) in a
+// headless context, through the same SceneRenderer a game uses.
 int render_scene_file(const ParsedArgs& parsed) {
-    require_known(parsed, {"path", "camera", "size", "pixel-error", "out"});
+    require_known(parsed, {"path", "camera", "size", "pixel-error", "out", "time", "disable", "only", "no-terrain"});
     if (parsed.positional.size() != 1) throw fx::Error("expected one SCENE.json");
     const std::string out = parsed.get("out");
     if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
@@ -58,36 +77,50 @@ int render_scene_file(const ParsedArgs& parsed) {
     const fx::HeadlessContext context;
     terrain::Scene scene = terrain::load_scene(parsed.positional[0]);
     const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (parsed.has("camera")) scene.camera = fx::Camera::parse(parsed.get("camera"));
+    const double time = parsed.has("time") ? parse_double(parsed.get("time"), "--time") : 0.0;
+    fx::Camera camera = scene.camera_path ? scene.camera_path->at(time, scene.camera) : scene.camera;
+    if (parsed.has("camera")) camera = fx::Camera::parse(parsed.get("camera"));
     if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
     if (parsed.has("pixel-error")) {
         scene.pixel_error = parse_double(parsed.get("pixel-error"), "--pixel-error");
         if (!(scene.pixel_error > 0.0)) throw fx::Error("--pixel-error must be positive");
     }
+    if (parsed.has("no-terrain")) scene.draw_terrain = false;
+    terrain::SceneRenderer renderer(scene);
     if (parsed.has("path")) {
         fx::RenderPath path;
         if (!fx::parse_render_path(parsed.get("path"), path))
-            throw fx::Error("--path: unknown render path '" + parsed.get("path") + "' (expected pcp, pcp-exact, mip)");
-        if (!scene.fog) throw fx::Error("--path: the scene has no fog to render");
-        scene.fog->path = path;
+            throw fx::Error("--path: unknown render path '" + parsed.get("path") + "'");
+        if (renderer.effect_names().empty()) throw fx::Error("--path: the scene has no effects to render");
+        for (const std::string& name : renderer.effect_names()) renderer.set_path(name, path);
     }
-    terrain::SceneRenderer renderer(scene);
+    for (const std::string& name : split_names(parsed.get("disable"))) renderer.set_enabled(name, false);
+    if (parsed.has("only")) {
+        const std::vector<std::string> only = split_names(parsed.get("only"));
+        for (const std::string& name : only) renderer.enabled(name); // unknown names are errors
+        for (const std::string& name : renderer.effect_names())
+            renderer.set_enabled(name, std::find(only.begin(), only.end(), name) != only.end());
+    }
+    renderer.set_time(time);
+    renderer.set_timing(true);
     terrain::FrameStats stats;
-    const fx::Image image = renderer.render_to_image(scene.camera, scene.width, scene.height, &stats);
+    const fx::Image image = renderer.render_to_image(camera, scene.width, scene.height, &stats);
     fx::write_image(image, out);
-    std::printf("wrote %s (%dx%d, %s%s%s)\n", out.c_str(), scene.width, scene.height,
-                scene.fog ? ("fog " + std::string(fx::render_path_name(scene.fog->path))).c_str() : "no fog",
-                scene.aurora ? ", aurora " : "", scene.aurora ? fx::render_path_name(scene.aurora->path) : "");
+    std::printf("wrote %s (%dx%d, t = %g s)\n", out.c_str(), scene.width, scene.height, time);
     std::printf("  %-22s %10.2f ms\n", "load scene", load_ms);
     std::printf("  %-22s %10.2f ms\n", "LOD update", stats.lod_ms);
     std::printf("  %-22s %10.2f ms\n", "LOD mesh + prisms", stats.mesh_ms);
-    std::printf("  %-22s %10.2f ms\n", "prism upload", stats.upload_ms);
-    std::printf("  %-22s %10.2f ms\n", "draw (to glFinish)", stats.draw_ms);
-    std::printf("  %-22s %10zu of %zu at full resolution\n", "terrain triangles", stats.terrain_lod.triangles,
-                renderer.terrain_lod().full_resolution_triangles());
-    std::printf("  %-22s %10zu\n", "fog prisms", stats.fog_prisms.prisms);
-    std::printf("  %-22s %10zu\n", "aurora prisms", stats.aurora_prisms.prisms);
-    std::printf("  %-22s %10zu\n", "near-plane caps", stats.fog.caps + stats.aurora.caps);
+    std::printf("  %-22s %10.2f ms\n", "effects upload", stats.upload_ms);
+    std::printf("  %-22s %10.2f ms (gpu %.2f ms)\n", "draw (to glFinish)", stats.draw_ms, stats.gpu_ms);
+    if (renderer.scene().has_terrain() && renderer.terrain_drawn())
+        std::printf("  %-22s %10zu of %zu at full resolution\n", "terrain triangles", stats.terrain_lod.triangles,
+                    renderer.terrain_lod().full_resolution_triangles());
+    std::printf("  %-10s %-12s %-11s %-16s %8s %8s %8s %9s %9s %9s\n", "effect", "type", "status", "path", "cells",
+                "built", "drawn", "noise", "sim ms", "gpu ms");
+    for (const terrain::EffectFrameStats& e : stats.effects)
+        std::printf("  %-10s %-12s %-11s %-16s %8zu %8zu %8zu %9zu %9.2f %9.2f\n", e.name.c_str(), e.type.c_str(),
+                    terrain::effect_status_name(e.status), fx::render_path_name(e.path), e.cells, e.cells_built,
+                    e.cells_drawn, e.noise_samples, e.simulate_ms, e.gpu_ms);
     std::printf("  gl: %s\n", context.description().c_str());
     return 0;
 }
@@ -208,7 +241,7 @@ fx::TransferFunction scale_extinction(const fx::TransferFunction& tf, double k) 
 } // namespace
 
 int run_render(const std::vector<std::string>& args) {
-    const ParsedArgs parsed = parse_args(args, {"help", "fog"});
+    const ParsedArgs parsed = parse_args(args, {"help", "fog", "no-terrain"});
     if (parsed.has("help")) {
         std::puts(kUsage);
         return 0;

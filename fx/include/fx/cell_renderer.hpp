@@ -48,6 +48,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
@@ -87,8 +88,9 @@ struct CellRenderOptions {
     // length in front of the scene (colour stays the per-cell trapezoid estimate); mip drops the
     // fragments behind it (a cell cut by a surface shows its entry face's maximum).
     // absorption-exact ends each segment at the scene depth like pcp-exact; absorption scales
-    // each pixel's thickness by the part of its segment in front (the colour is kept). The texture
-    // must not be attached to the framebuffer render() draws into; it is read on texture unit 3.
+    // each pixel's thickness by the part of its segment in front (the colour is kept). It is read
+    // on texture unit 3 only while drawing into the renderer's own targets and unbound before the
+    // resolve, so it may be attached to the framebuffer render() draws into (a game's usual set-up).
     unsigned int scene_depth = 0;
     // Absorption paths: the visibility sort (its per-mesh state is built on first use of each
     // method, and again when the view-dependent subdivision changes the cells). The default,
@@ -138,6 +140,11 @@ public:
     // rebuilt every frame (terrain LOD prisms). The function's normalized range follows the new
     // field. Throws like the constructor.
     void set_mesh(const CellMesh& mesh, const std::string& scalar_name);
+    // Replaces the values of the field in use (one per mesh point), keeping the geometry: for
+    // scalars animated on a fixed mesh (a campfire's noise), far cheaper than set_mesh. A
+    // normalized function's range follows the new values. Throws fx::Error for a wrong count or
+    // a non-finite value (nothing is changed then).
+    void set_scalars(const std::vector<float>& values);
 
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});

@@ -147,6 +147,25 @@ void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name
     set_transfer_function(impl_->source_tf);
 }
 
+void CellRenderer::set_scalars(const std::vector<float>& values) {
+    Impl& m = *impl_;
+    if (values.size() != m.geometry.scalars.size())
+        throw Error("cell renderer: set_scalars got " + std::to_string(values.size()) + " values for " +
+                    std::to_string(m.geometry.scalars.size()) + " points");
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i])) throw Error("cell renderer: set_scalars: value " + std::to_string(i) + " is not finite");
+    // The absorption paths' state (working mesh, sorts, tables) depends on the geometry and the
+    // transfer function only; their builders read the scalars from `geometry` and the GPU buffer.
+    m.geometry.scalars = values;
+    std::vector<glm::vec4> point_data(std::max<std::size_t>(values.size(), 1));
+    for (std::size_t i = 0; i < values.size(); ++i) point_data[i] = glm::vec4(m.geometry.positions[i], values[i]);
+    glNamedBufferSubData(m.points.id(), 0, GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data());
+    FX_GL_CHECK("set_scalars upload");
+    m.field_range = values.empty() ? ScalarRange{0.0f, 0.0f} : ScalarRange{values[0], values[0]};
+    for (float v : values) m.field_range.lo = std::min(m.field_range.lo, v), m.field_range.hi = std::max(m.field_range.hi, v);
+    if (m.source_tf.normalized()) set_transfer_function(m.source_tf); // its tables follow the range
+}
+
 void CellRenderer::Impl::upload_mesh(const CellMesh& source, const std::string& scalar_name) {
     Impl& m = *this;
     const ScalarField* field = nullptr;
@@ -173,7 +192,8 @@ void CellRenderer::Impl::upload_mesh(const CellMesh& source, const std::string& 
         const auto& tri = m.geometry.triangles[t];
         triangle_data[t] = {glm::uvec4(tri[0], tri[1], tri[2], m.geometry.triangle_cell[t]), m.geometry.triangle_planes[t]};
     }
-    m.points = gl::make_buffer(GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data());
+    // Dynamic storage: set_scalars rewrites it in place.
+    m.points = gl::make_buffer(GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data(), GL_DYNAMIC_STORAGE_BIT);
     m.triangles = gl::make_buffer(GLsizeiptr(triangle_data.size() * sizeof(GpuTriangle)), triangle_data.data());
     m.cells = gl::make_buffer(GLsizeiptr(m.geometry.cell_first_triangle.size() * sizeof(std::uint32_t)),
                               m.geometry.cell_first_triangle.data());

@@ -1,47 +1,64 @@
-// cellfx terrain — scene files: a terrain, its ground fog, an aurora, a camera and how to render
-// them, as one JSON document (content/scenes/*.json; format in docs/terrain.md).
+// cellfx terrain — scene files: a terrain, its ground fog, an aurora, free-standing effects
+// (campfire, search light, laser cone), a camera (and a path for it) and how to render them, as
+// one JSON document (content/scenes/*.json; format in docs/terrain.md and docs/effects.md).
 //
 //     {
 //       "description": "...",                              // optional
 //       "terrain":  {"height_map": "../terrain/st_helens_257.png", "spacing": 30,
-//                    "vertical_scale": 1, "vertical_offset": 0, "pad": false}
-//                or {"procedural": {"size": 257, "spacing": 30, "noise": NOISE}},
+//                    "vertical_scale": 1, "vertical_offset": 0, "pad": false, "draw": true}
+//                or {"procedural": {"size": 257, "spacing": 30, "noise": NOISE}, "draw": true},
+//                   ("draw": false — the game draws its own ground and hands cellfx its depth;
+//                    the terrain still carries the fog)
 //       "lod":      {"pixel_error": 2, "min_resolution": 4, "triangle_budget": 0, "geomorph": true},
 //       "fog":      {"thickness_map": {"file": "fog.png", "vertical_scale": 1, "pad": false}
 //                    or "valley": {"level": 1300, "max_thickness": 250, "radius": 0, "noise": NOISE},
 //                    (radius > 0: level relative to the ground averaged over ±radius),
 //                    "density": "layer_height" | "noise", "density_scale": 1, "density_noise": NOISE,
 //                    "transfer_function": "../transfer_functions/fog.json", "extinction_scale": 0.01,
-//                    "path": "pcp-exact", "absorb": true},
+//                    "path": "pcp-exact", "absorb": true, "enabled": true},
 //       "aurora":   {"ceiling": 12000, "size": 129, "spacing": 120, "origin": [x, y],
 //                    "curtains": {"count": 3, "max_depth": 3000, "width": 250, "wander": 1500,
 //                                 "cutoff": 0.02, "seed": 1},
 //                    "transfer_function": "...", "extinction_scale": 1, "path": "mip",
-//                    "pixel_error": 4},
+//                    "pixel_error": 4, "enabled": true},
+//       "effects":  [{"type": "campfire" | "search_light" | "laser_cone", "name": "fire",
+//                     "enabled": true, "path": "pcp-exact", "absorb": false,
+//                     "transfer_function": "../transfer_functions/fire.json", "extinction_scale": 1,
+//                     ... the type's parameters under their C++ names (fx/campfire.hpp,
+//                     fx/search_light.hpp, fx/laser_cone.hpp), e.g. "position": [x, y, z],
+//                     "base_radius": 0.45, "sweep": {"axis": [0, 0, 1], "amplitude_degrees": 30,
+//                     "period": 8, "phase_degrees": 0}}, ...],
 //       "camera":   {"eye": [x, y, z], "target": [x, y, z], "up": [0, 0, 1], "fov": 50,
 //                    "near": 5, "far": 60000},
+//       "camera_path": {"loop": false, "keys": [{"time": 0, "eye": [x, y, z], "target": [x, y, z]}, ...]},
 //       "render":   {"width": 1024, "height": 768, "background": [r, g, b]},
-//       "surface":  {"sun": [x, y, z], "ambient": 0.35}
+//       "surface":  {"sun": [x, y, z], "ambient": 0.35, "ramp": [[0, [r, g, b]], ..., [1, [r, g, b]]]}
 //     }
 //     NOISE = {"amplitude": 40, "offset": 0, "frequency": 0.002, "octaves": 4, "lacunarity": 2,
 //              "gain": 0.5, "seed": 1}   (fBm of 2-D gradient noise: offset + amplitude·fbm(x, y))
-// "terrain" and "camera" are required; "fog" and "aurora" are optional (absent: not built, not
-// drawn). File names are relative to the scene file's folder. Unknown keys are errors, as are
-// wrong types and values out of range; every message names the file and the key path
-// ("fog_valley.json: fog.path: unknown render path 'pcp-exakt' (expected pcp, pcp-exact, mip)").
-// Later sections (effects) extend this one loader: scene_file.cpp is its only parser.
+// "camera" is required, and "terrain" unless the scene has effects; "fog" needs a terrain;
+// everything else is optional (absent: not built, not drawn). Effect names are unique ("fog"
+// and "aurora" name those sections). File names are relative to the scene file's folder.
+// Unknown keys are errors, as are wrong types and values out of range; every message names the
+// file and the key path ("campfire.json: effects[0].base_radius: must be positive").
+// scene_file.cpp is the only parser.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
+#include <vector>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "fx/camera.hpp"
+#include "fx/campfire.hpp"
 #include "fx/cell_renderer.hpp"
+#include "fx/laser_cone.hpp"
+#include "fx/search_light.hpp"
 #include "fx/transfer_function.hpp"
 #include "terrain/aurora.hpp"
 #include "terrain/continuous_lod.hpp"
@@ -70,6 +87,7 @@ struct FogSpec {
     fx::TransferFunction transfer_function;
     fx::RenderPath path = fx::RenderPath::PcpExact;
     bool absorb = true;               // pcp-exact: fog dims what is behind it
+    bool enabled = true;              // false: declared but neither built nor drawn (until enabled)
 };
 
 struct AuroraSpec {
@@ -78,21 +96,56 @@ struct AuroraSpec {
     fx::TransferFunction transfer_function;
     fx::RenderPath path = fx::RenderPath::Mip;
     double pixel_error = 4.0;
+    bool enabled = true;
+};
+
+// A free-standing effect the scene calls for (one entry of "effects").
+using EffectParams = std::variant<fx::CampfireParams, fx::SearchLightParams, fx::LaserConeParams>;
+const char* effect_type_name(const EffectParams& params); // "campfire", "search_light", "laser_cone"
+
+struct EffectSpec {
+    std::string name;                       // unique within the scene
+    EffectParams params;
+    fx::TransferFunction transfer_function; // extinction scaled; normalized ones are mapped onto
+                                            // the effect's scalar_range()
+    fx::RenderPath path = fx::RenderPath::PcpExact;
+    bool absorb = false;                    // pcp-exact: also dims what is behind it
+    bool enabled = true;
+};
+
+// Key frames of a camera flight: eye and target follow Catmull–Rom curves through the keys
+// (uniform in time between keys); before the first key and after the last they hold (or, with
+// `loop`, time wraps over [first time, last time] — repeat the first key last for a closed loop).
+struct CameraKey {
+    double time = 0.0; // seconds, strictly increasing along the path
+    glm::dvec3 eye{0.0}, target{0.0, 0.0, -1.0};
+};
+struct CameraPath {
+    std::vector<CameraKey> keys; // at least 2
+    bool loop = false;
+    double duration() const { return keys.size() < 2 ? 0.0 : keys.back().time - keys.front().time; }
+    // `base` (up, fov, near, far) with eye and target at time t.
+    fx::Camera at(double t, const fx::Camera& base) const;
 };
 
 struct Scene {
     std::string source;               // the file it came from ("" for scenes built in code)
     std::string description;
-    HeightField ground;
+    HeightField ground;               // size 0: no terrain (a scene of effects only)
+    bool draw_terrain = true;         // false: the game draws the ground; cellfx uses it for fog only
     LodSettings lod;
     double pixel_error = 2.0;
     std::size_t triangle_budget = 0;
     std::optional<FogSpec> fog;
     std::optional<AuroraSpec> aurora;
+    std::vector<EffectSpec> effects;
     fx::Camera camera;
+    std::optional<CameraPath> camera_path;
     int width = 1024, height = 768;
     glm::dvec3 background{0.55, 0.66, 0.80};
     SurfaceStyle surface;
+
+    bool has_terrain() const { return ground.size > 0; }
 };
 
 // Reads and builds a scene (height maps, fog maps, transfer functions). Throws fx::Error naming

@@ -1,17 +1,25 @@
-// Based on: Roettger & Ertl 2003, §5 — ground fog over a continuous-LOD terrain and the aurora,
-// as prisms projected by the cell renderer; the terrain's depth stops the fog at the ground.
+// Based on: Roettger & Ertl 2003, §5 — ground fog over a continuous-LOD terrain, the aurora and
+// emissive effects as cells projected by fx::CellRenderer; the scene's depth (the game's and the
+// terrain's) stops them at opaque surfaces. What runs per frame is in scene_renderer.hpp.
 #include "terrain/scene_renderer.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <optional>
+
+#include <glm/geometric.hpp>
 
 #include "fx/error.hpp"
 #include "gl/composite_pass.hpp"
 #include "gl/gl_check.hpp"
+#include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
 #include "gl/state_guard.hpp"
+#include "render/terrain_shaders.hpp"
+#include "terrain/layer_effects.hpp"
+#include "terrain/terrain_lod.hpp"
 
 namespace terrain {
 
@@ -20,175 +28,479 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// A normalized transfer function mapped once onto the layer's full scalar range, so that the
-// colours do not shift as the LOD (and with it the range of the frame's scalars) changes.
-fx::TransferFunction fixed_range(const fx::TransferFunction& tf, double lo, double hi) {
-    return tf.normalized() ? tf.rescaled(lo, std::max(hi, lo + 1e-6 * std::max(1.0, std::abs(lo)))) : tf;
+// A normalized transfer function mapped once onto the effect's full scalar range, so that the
+// colours do not shift as the frame's scalars (LOD, noise) vary.
+fx::TransferFunction fixed_range(const fx::TransferFunction& tf, fx::ScalarRange range) {
+    const double lo = range.lo, hi = std::max(double(range.hi), lo + 1e-6 * std::max(1.0, std::abs(lo)));
+    return tf.normalized() ? tf.rescaled(lo, hi) : tf;
 }
 
-// One volumetric layer (fog or aurora): its LOD, its prisms, its cell renderer.
-struct Layer {
-    std::optional<ContinuousLod> lod; // the aurora's own; the fog rides on the terrain's LOD
-    LayerPrismOptions prism_options;
-    fx::TransferFunction tf;
-    fx::RenderPath path;
+enum class Kind { Fog, Aurora, Other };
+
+// One effect and its GL side.
+struct Slot {
+    std::string name;
+    Kind kind = Kind::Other;
+    std::unique_ptr<fx::Effect> effect;
+    fx::TransferFunction tf; // in scalar units
+    fx::RenderPath path = fx::RenderPath::PcpExact;
     bool absorb = false;
-    double pixel_error = 2.0;
-    LodMesh mesh;
-    fx::CellMesh prisms;
-    std::optional<fx::CellRenderer> renderer; // made on the first frame with prisms
+    bool enabled = true;
+    std::optional<fx::CellRenderer> renderer; // made when the effect first has cells to draw
+    fx::EffectChanges pending;                // changes not uploaded yet
+    bool simulated = false;                   // updated this frame: to be drawn
+    double distance = 0.0;                    // eye to its bounds' centre this frame
+    EffectFrameStats stats;
 };
+
+std::unique_ptr<fx::Effect> make_effect(const EffectParams& params) {
+    struct Make {
+        std::unique_ptr<fx::Effect> operator()(const fx::CampfireParams& p) const { return std::make_unique<fx::Campfire>(p); }
+        std::unique_ptr<fx::Effect> operator()(const fx::SearchLightParams& p) const {
+            return std::make_unique<fx::SearchLight>(p);
+        }
+        std::unique_ptr<fx::Effect> operator()(const fx::LaserConeParams& p) const { return std::make_unique<fx::LaserCone>(p); }
+    };
+    return std::visit(Make{}, params);
+}
+
+// GL_TIME_ELAPSED around a block, when timing is on.
+class GpuTimer {
+public:
+    GpuTimer(const fx::gl::Query& query, bool on) : query_(query), on_(on) {
+        if (on_) glBeginQuery(GL_TIME_ELAPSED, query_.id());
+    }
+    double stop() {
+        if (!on_) return -1.0;
+        on_ = false;
+        glEndQuery(GL_TIME_ELAPSED);
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(query_.id(), GL_QUERY_RESULT, &ns);
+        return double(ns) * 1e-6;
+    }
+    ~GpuTimer() {
+        if (on_) glEndQuery(GL_TIME_ELAPSED);
+    }
+
+private:
+    const fx::gl::Query& query_;
+    bool on_;
+};
+
+std::string format_ms(double ms) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1f", ms);
+    return b;
+}
 
 } // namespace
 
+const char* effect_status_name(EffectStatus status) {
+    switch (status) {
+    case EffectStatus::Simulated: return "simulated";
+    case EffectStatus::Moved: return "moved";
+    case EffectStatus::Unchanged: return "unchanged";
+    case EffectStatus::Disabled: return "disabled";
+    case EffectStatus::OutOfView: return "out of view";
+    }
+    return "?";
+}
+
+const EffectFrameStats* FrameStats::find(std::string_view name) const {
+    for (const EffectFrameStats& e : effects)
+        if (e.name == name) return &e;
+    return nullptr;
+}
+
+std::string FrameStats::summary() const {
+    std::string s = "t " + format_ms(time) + " s  " + format_ms(frame_ms) + " ms";
+    if (gpu_ms >= 0.0) s += " (gpu " + format_ms(gpu_ms) + ")";
+    for (const EffectFrameStats& e : effects) {
+        s += "  |  " + e.name + ": " + effect_status_name(e.status);
+        if (effect_skipped(e.status)) continue;
+        s += " " + std::string(fx::render_path_name(e.path)) + " " + std::to_string(e.cells_drawn) + " cells";
+        if (e.cells_built) s += ", built " + std::to_string(e.cells_built);
+        if (e.noise_samples) s += ", noise " + std::to_string(e.noise_samples);
+    }
+    return s;
+}
+
 struct SceneRenderer::Impl {
     Scene scene;
-    ContinuousLod terrain; // the ground, with the fog layer when there is fog
-    LodMesh terrain_mesh;
-    SurfaceRenderer surface;
-    std::optional<Layer> fog, aurora;
+    bool draw_terrain = false;
+    bool timing = false;
+    double time = 0.0;
+    std::shared_ptr<TerrainLod> terrain; // the ground, with the fog layer when there is fog
+    std::optional<SurfaceRenderer> surface; // made on the first frame that draws it
+    std::vector<Slot> slots;
+    GroundFog* fog = nullptr;
+    Aurora* aurora = nullptr;
     fx::CellMesh no_prisms;
-    fx::gl::RenderTarget target;
+    LodMesh no_mesh;
+
+    // The frame prepared by update().
+    bool updated = false;
+    fx::Camera camera;
+    int width = 0, height = 0;
+    FrameStats stats;
+
+    fx::gl::RenderTarget target; // colour + depth, when the surface is drawn or the frame is opaque
     fx::gl::CompositePass composite;
+    fx::gl::Program depth_copy;
+    fx::gl::Sampler depth_sampler;
+    fx::gl::VertexArray empty_vao;
+    fx::gl::Query surface_timer, composite_timer;
 
-    explicit Impl(const Scene& s)
-        : scene(s),
-          terrain(s.fog ? ContinuousLod(s.ground, s.fog->thickness, s.lod) : ContinuousLod(s.ground, s.lod)),
-          surface(s.ground), composite(fx::gl::CompositePass::create()) {}
-
-    void draw_layer(Layer& layer, const fx::Camera& camera, int width, int height, fx::CellRenderStats& stats,
-                    double& upload_ms) {
-        if (layer.prisms.cell_count() == 0) return;
-        const auto t = Clock::now();
-        if (!layer.renderer) layer.renderer.emplace(layer.prisms, layer.prism_options.scalar_name, layer.tf);
-        else layer.renderer->set_mesh(layer.prisms, layer.prism_options.scalar_name);
-        upload_ms += ms_since(t);
-        fx::CellRenderOptions options;
-        options.fog = layer.absorb && layer.path == fx::RenderPath::PcpExact;
-        options.scene_depth = target.depth_texture();
-        stats = layer.renderer->render(camera, fx::Viewport{0, 0, width, height}, layer.path, options);
+    explicit Impl(const Scene& s) : scene(s), draw_terrain(s.draw_terrain && s.has_terrain()) {
+        if (s.has_terrain() && (s.fog || draw_terrain))
+            terrain = std::make_shared<TerrainLod>(s.ground, s.fog ? std::optional<HeightField>(s.fog->thickness) : std::nullopt,
+                                                   s.lod);
+        const LayerEffectSettings lod_view{s.pixel_error, s.triangle_budget};
+        if (s.fog) {
+            const FogSpec& f = *s.fog;
+            auto effect = std::make_unique<GroundFog>(terrain, f.thickness, f.prisms, lod_view);
+            fog = effect.get();
+            add_slot("fog", Kind::Fog, std::move(effect), f.transfer_function, f.path, f.absorb, f.enabled);
+        }
+        if (s.aurora) {
+            const AuroraSpec& a = *s.aurora;
+            auto effect = std::make_unique<Aurora>(a.layer, s.lod, LayerEffectSettings{a.pixel_error, 0});
+            aurora = effect.get();
+            add_slot("aurora", Kind::Aurora, std::move(effect), a.transfer_function, a.path, false, a.enabled);
+        }
+        for (const EffectSpec& e : s.effects)
+            add_slot(e.name, Kind::Other, make_effect(e.params), e.transfer_function, e.path, e.absorb, e.enabled);
+        composite = fx::gl::CompositePass::create();
+        depth_copy = terrain_shaders().link({"fullscreen.vert", "scene_depth_copy.frag"});
+        depth_sampler = fx::gl::Sampler::create();
+        glSamplerParameteri(depth_sampler.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glSamplerParameteri(depth_sampler.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glSamplerParameteri(depth_sampler.id(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+        empty_vao = fx::gl::VertexArray::create();
+        surface_timer = fx::gl::Query::create(GL_TIME_ELAPSED);
+        composite_timer = fx::gl::Query::create(GL_TIME_ELAPSED);
+        FX_GL_CHECK("scene renderer set-up");
     }
 
-    // Draws the frame into `target` (resized to width × height).
-    FrameStats draw(const fx::Camera& camera, int width, int height, bool finish) {
+    void add_slot(const std::string& name, Kind kind, std::unique_ptr<fx::Effect> effect, const fx::TransferFunction& tf,
+                  fx::RenderPath path, bool absorb, bool enabled) {
+        Slot slot;
+        slot.name = name;
+        slot.kind = kind;
+        slot.tf = fixed_range(tf, effect->scalar_range());
+        slot.effect = std::move(effect);
+        slot.path = path;
+        slot.absorb = absorb;
+        slot.enabled = enabled;
+        slots.push_back(std::move(slot));
+    }
+
+    Slot& slot(const std::string& name) {
+        for (Slot& s : slots)
+            if (s.name == name) return s;
+        std::string names;
+        for (const Slot& s : slots) names += (names.empty() ? "" : ", ") + s.name;
+        throw fx::Error("scene: no effect named '" + name + "' (the scene has: " + (names.empty() ? "none" : names) + ")");
+    }
+
+    LodView terrain_view(const fx::Camera& cam, int h) const {
+        return LodView::from_camera(cam, h, scene.pixel_error, scene.triangle_budget);
+    }
+
+    void update(double dt, const fx::Camera& cam, int w, int h) {
+        if (!std::isfinite(dt)) throw fx::Error("scene update: dt is not finite");
+        if (w < 1 || h < 1) throw fx::Error("scene update: empty viewport " + std::to_string(w) + "x" + std::to_string(h));
         const auto start = Clock::now();
-        FrameStats stats;
-        auto t = Clock::now();
-        stats.terrain_lod = terrain.update(LodView::from_camera(camera, height, scene.pixel_error, scene.triangle_budget));
-        if (aurora) stats.aurora_lod = aurora->lod->update(LodView::from_camera(camera, height, aurora->pixel_error));
-        stats.lod_ms = ms_since(t);
+        time += dt;
+        stats = FrameStats{};
+        stats.time = time;
+        const fx::EffectView view{cam, w, h, time};
+        const double aspect = double(w) / double(h);
 
-        t = Clock::now();
-        terrain.extract(terrain_mesh);
-        if (fog) fog->prisms = build_layer_prisms(terrain_mesh, fog->prism_options, &stats.fog_prisms);
-        if (aurora) {
-            aurora->lod->extract(aurora->mesh);
-            aurora->prisms = build_layer_prisms(aurora->mesh, aurora->prism_options, &stats.aurora_prisms);
+        // Which effects run this frame: enabled and in view (bounds from parameters and pose).
+        for (Slot& s : slots) {
+            s.simulated = false;
+            s.stats = EffectFrameStats{};
+            s.stats.name = s.name;
+            s.stats.type = s.effect->type_name();
+            s.stats.path = s.path;
+            if (!s.enabled) {
+                s.stats.status = EffectStatus::Disabled;
+                continue;
+            }
+            const fx::Bounds b = s.effect->world_bounds(time);
+            if (!fx::bounds_in_view(b, cam, aspect)) {
+                s.stats.status = EffectStatus::OutOfView;
+                continue;
+            }
+            s.simulated = true;
+            s.distance = glm::length(b.center() - cam.eye);
         }
-        stats.mesh_ms = ms_since(t);
+        // The terrain LOD, once, for the surface and the fog alike.
+        const bool fog_runs = fog && slot("fog").simulated;
+        if (terrain && (draw_terrain || fog_runs)) {
+            terrain->update(terrain_view(cam, h), &stats.terrain_lod);
+            stats.lod_ms += terrain->last_update_ms();
+            stats.mesh_ms += terrain->last_extract_ms();
+        }
+        for (Slot& s : slots) {
+            if (!s.simulated) continue;
+            const fx::EffectCounters before = s.effect->counters();
+            const auto t = Clock::now();
+            const fx::EffectChanges c = s.effect->update(view);
+            s.stats.simulate_ms = ms_since(t);
+            const fx::EffectCounters& after = s.effect->counters();
+            s.pending.mesh |= c.mesh;
+            s.pending.scalars |= c.scalars;
+            s.stats.status = (c.mesh || c.scalars) ? EffectStatus::Simulated
+                             : c.pose              ? EffectStatus::Moved
+                                                   : EffectStatus::Unchanged;
+            s.stats.cells_built = std::size_t(after.cells_built - before.cells_built);
+            s.stats.noise_samples = std::size_t(after.noise_samples - before.noise_samples);
+            stats.noise_samples += s.stats.noise_samples;
+            if (s.kind == Kind::Fog) {
+                stats.mesh_ms += s.stats.simulate_ms; // the LOD was refined above: prisms only
+            } else if (s.kind == Kind::Aurora) {
+                stats.aurora_lod = aurora->lod_stats();
+                stats.lod_ms += aurora->lod().last_update_ms();
+                stats.mesh_ms += s.stats.simulate_ms - aurora->lod().last_update_ms();
+            }
+        }
+        for (Slot& s : slots) s.stats.cells = s.effect->mesh().cell_count();
+        camera = cam;
+        width = w;
+        height = h;
+        updated = true;
+        stats.update_ms = ms_since(start);
+        stats.frame_ms = stats.update_ms;
+        collect_effect_stats();
+    }
 
-        if (target.width() != width || target.height() != height)
-            target = fx::gl::RenderTarget::create(width, height, fx::gl::ColorFormat::RGBA32F, true);
-        t = Clock::now();
-        double upload_ms = 0.0;
+    void collect_effect_stats() {
+        stats.effects.clear();
+        for (const Slot& s : slots) stats.effects.push_back(s.stats);
+    }
+
+    // Uploads what update() changed and draws one effect into the bound framebuffer.
+    void draw_effect(Slot& s, const fx::Viewport& viewport, GLuint scene_depth) {
+        const fx::CellMesh& mesh = s.effect->mesh();
+        if (mesh.cell_count() == 0) return; // nothing to draw (changes stay pending)
+        const auto t = Clock::now();
+        if (!s.renderer) {
+            s.renderer.emplace(mesh, s.effect->scalar_name(), s.tf);
+        } else if (s.pending.mesh) {
+            s.renderer->set_mesh(mesh, s.effect->scalar_name());
+        } else if (s.pending.scalars) {
+            s.renderer->set_scalars(mesh.find_scalar(s.effect->scalar_name())->values);
+        }
+        s.pending = fx::EffectChanges{};
+        s.stats.upload_ms = ms_since(t);
+        fx::CellRenderOptions options;
+        options.fog = s.absorb && s.path == fx::RenderPath::PcpExact;
+        options.scene_depth = scene_depth;
+        options.timing = timing;
+        const fx::CellRenderStats r =
+            s.renderer->render(fx::camera_in_frame(camera, s.effect->transform()), viewport, s.path, options);
+        s.stats.render = r;
+        s.stats.cells_drawn = r.cells_drawn;
+        s.stats.draw_ms = r.cpu_ms;
+        s.stats.gpu_ms = r.gpu_ms;
+        stats.cells_drawn += r.cells_drawn;
+        stats.upload_ms += s.stats.upload_ms;
+        if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + r.gpu_ms;
+        if (s.kind == Kind::Fog) stats.fog = r, stats.fog_prisms = fog->prism_stats();
+        if (s.kind == Kind::Aurora) stats.aurora = r, stats.aurora_prisms = aurora->prism_stats();
+    }
+
+    // The effects to draw, fog and aurora first (they fill the scene), the rest far to near.
+    std::vector<Slot*> draw_order() {
+        std::vector<Slot*> order;
+        for (Slot& s : slots)
+            if (s.simulated) order.push_back(&s);
+        std::stable_sort(order.begin(), order.end(), [](const Slot* a, const Slot* b) {
+            const int ka = a->kind == Kind::Other ? 1 : 0, kb = b->kind == Kind::Other ? 1 : 0;
+            if (ka != kb) return ka < kb;
+            return ka == 1 && a->distance > b->distance;
+        });
+        return order;
+    }
+
+    void copy_depth(GLuint depth, const fx::Viewport& viewport) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glDepthMask(GL_TRUE);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glUseProgram(depth_copy.id());
+        glProgramUniform2i(depth_copy.id(), 0, viewport.x, viewport.y);
+        glBindVertexArray(empty_vao.id());
+        glBindTextureUnit(0, depth);
+        glBindSampler(0, depth_sampler.id());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glBindTextureUnit(0, 0);
+        glBindSampler(0, 0);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDisable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        FX_GL_CHECK("scene depth copy");
+    }
+
+    enum class Mode {
+        OverHost, // over the game's frame (render(Target))
+        Opaque,   // the scene's background, terrain and effects (render(camera, viewport), render_to_image)
+    };
+
+    // Draws the prepared frame. With `host` it ends composited over the host framebuffer's
+    // viewport; without, the opaque frame stays in `target` (render_to_image reads it).
+    void draw(Mode mode, std::optional<GLuint> host, const fx::Viewport& viewport, GLuint host_depth, bool finish) {
+        if (!updated) throw fx::Error("scene render: update() has not been called");
+        if (viewport.width != width || viewport.height != height)
+            throw fx::Error("scene render: the viewport is " + std::to_string(viewport.width) + "x" +
+                            std::to_string(viewport.height) + " but update() prepared " + std::to_string(width) + "x" +
+                            std::to_string(height));
+        const auto start = Clock::now();
+        const double upload_before = stats.upload_ms;
+        if (draw_terrain && !surface) surface.emplace(scene.ground);
+        const std::vector<Slot*> order = draw_order();
+        const bool own_target = mode == Mode::Opaque || draw_terrain;
         {
             fx::gl::StateGuard guard;
             fx::gl::StateGuard::set_render_defaults();
-            const glm::dvec3& bg = scene.background;
-            target.clear(glm::vec4(float(bg.r), float(bg.g), float(bg.b), 1.0f), 1.0f);
-            target.bind_for_drawing();
-            stats.surface = surface.draw(terrain_mesh, camera, fx::Viewport{0, 0, width, height}, scene.surface);
-            if (fog) draw_layer(*fog, camera, width, height, stats.fog, upload_ms);
-            if (aurora) draw_layer(*aurora, camera, width, height, stats.aurora, upload_ms);
-            if (finish) glFinish();
-            FX_GL_CHECK("terrain scene frame");
+            fx::Viewport effect_viewport = viewport;
+            GLuint scene_depth = host_depth;
+            if (own_target) {
+                if (target.width() != width || target.height() != height)
+                    target = fx::gl::RenderTarget::create(width, height, fx::gl::ColorFormat::RGBA32F, true);
+                const glm::dvec3& bg = scene.background;
+                target.clear(mode == Mode::Opaque ? glm::vec4(float(bg.r), float(bg.g), float(bg.b), 1.0f) : glm::vec4(0.0f),
+                             1.0f);
+                target.bind_for_drawing();
+                if (host_depth != 0) copy_depth(host_depth, viewport);
+                if (draw_terrain) {
+                    GpuTimer timer(surface_timer, timing);
+                    stats.surface = surface->draw(terrain->mesh(), camera, fx::Viewport{0, 0, width, height}, scene.surface);
+                    stats.surface_gpu_ms = timer.stop();
+                    if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.surface_gpu_ms;
+                }
+                effect_viewport = fx::Viewport{0, 0, width, height};
+                scene_depth = target.depth_texture();
+            } else {
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host ? *host : 0);
+            }
+            for (Slot* s : order) draw_effect(*s, effect_viewport, scene_depth);
+            if (own_target && host) {
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, *host);
+                glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+                GpuTimer timer(composite_timer, timing);
+                composite.draw_over_framebuffer(target.color_texture());
+                stats.composite_gpu_ms = timer.stop();
+                if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.composite_gpu_ms;
+            }
+            if (finish || timing) glFinish();
+            FX_GL_CHECK("scene frame");
         }
-        stats.upload_ms = upload_ms;
-        stats.draw_ms = ms_since(t) - upload_ms;
-        stats.frame_ms = ms_since(start);
-        return stats;
+        stats.render_ms = ms_since(start);
+        stats.draw_ms = stats.render_ms - (stats.upload_ms - upload_before);
+        stats.frame_ms = stats.update_ms + stats.render_ms;
+        for (Slot& s : slots) s.stats.cells = s.effect->mesh().cell_count();
+        collect_effect_stats();
     }
 };
 
-SceneRenderer::SceneRenderer(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {
-    Impl& m = *impl_;
-    if (scene.fog) {
-        const FogSpec& f = *scene.fog;
-        Layer layer{std::nullopt, f.prisms, {}, f.path, f.absorb, scene.pixel_error, {}, {}, {}};
-        double hi = f.prisms.density_scale;
-        if (f.prisms.density == LayerDensity::LayerHeight) {
-            hi *= f.thickness.max_height();
-        } else if (f.prisms.density == LayerDensity::Noise) {
-            double top = 0.0;
-            for (int j = 0; j < f.thickness.size; ++j)
-                for (int i = 0; i < f.thickness.size; ++i)
-                    top = std::max(top, f.prisms.noise(f.thickness.x(i), f.thickness.y(j)));
-            hi *= top;
-        }
-        layer.tf = fixed_range(f.transfer_function, 0.0, hi);
-        m.fog.emplace(std::move(layer));
-    }
-    if (scene.aurora) {
-        const AuroraSpec& a = *scene.aurora;
-        LodSettings settings = scene.lod;
-        LayerPrismOptions options;
-        options.density = LayerDensity::LowerBorder;
-        options.scalar_name = "emission";
-        Layer layer{ContinuousLod(a.layer.lower_border, a.layer.depth, settings), options, {}, a.path, false,
-                    a.pixel_error, {}, {}, {}};
-        layer.tf = fixed_range(a.transfer_function, 0.0, options.density_scale);
-        m.aurora.emplace(std::move(layer));
-    }
-}
-
+SceneRenderer::SceneRenderer(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
 SceneRenderer::~SceneRenderer() = default;
 SceneRenderer::SceneRenderer(SceneRenderer&&) noexcept = default;
 SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
 
+void SceneRenderer::update(double dt, const fx::Camera& camera, int width, int height) {
+    impl_->update(dt, camera, width, height);
+}
+
+FrameStats SceneRenderer::render(const Target& target) {
+    const GLuint fb = target.framebuffer;
+    impl_->draw(Impl::Mode::OverHost, fb, target.viewport, target.depth_texture, false);
+    return impl_->stats;
+}
+
+const FrameStats& SceneRenderer::stats() const { return impl_->stats; }
+
 FrameStats SceneRenderer::render(const fx::Camera& camera, const fx::Viewport& viewport, bool finish) {
     if (viewport.width <= 0 || viewport.height <= 0) throw fx::Error("terrain scene: empty viewport");
-    Impl& m = *impl_;
     GLint host = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host);
-    FrameStats stats = m.draw(camera, viewport.width, viewport.height, false);
-    const auto t = Clock::now();
-    {
-        fx::gl::StateGuard guard;
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(host));
-        glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
-        m.composite.draw_over_framebuffer(m.target.color_texture());
-        if (finish) glFinish();
-        FX_GL_CHECK("terrain scene composite");
-    }
-    stats.draw_ms += ms_since(t);
-    stats.frame_ms += ms_since(t);
-    return stats;
+    impl_->update(0.0, camera, viewport.width, viewport.height);
+    impl_->draw(Impl::Mode::Opaque, GLuint(host), viewport, 0, finish);
+    return impl_->stats;
 }
 
 fx::Image SceneRenderer::render_to_image(const fx::Camera& camera, int width, int height, FrameStats* stats) {
     if (width <= 0 || height <= 0) throw fx::Error("terrain scene: empty image size");
-    const FrameStats s = impl_->draw(camera, width, height, true);
-    if (stats) *stats = s;
+    impl_->update(0.0, camera, width, height);
+    impl_->draw(Impl::Mode::Opaque, std::nullopt, fx::Viewport{0, 0, width, height}, 0, true);
+    if (stats) *stats = impl_->stats;
     return impl_->target.read();
 }
 
+std::vector<std::string> SceneRenderer::effect_names() const {
+    std::vector<std::string> names;
+    for (const Slot& s : impl_->slots) names.push_back(s.name);
+    return names;
+}
+bool SceneRenderer::has_effect(const std::string& name) const {
+    for (const Slot& s : impl_->slots)
+        if (s.name == name) return true;
+    return false;
+}
+void SceneRenderer::set_enabled(const std::string& name, bool enabled) { impl_->slot(name).enabled = enabled; }
+bool SceneRenderer::enabled(const std::string& name) const { return impl_->slot(name).enabled; }
+void SceneRenderer::set_path(const std::string& name, fx::RenderPath path) { impl_->slot(name).path = path; }
+fx::RenderPath SceneRenderer::path(const std::string& name) const { return impl_->slot(name).path; }
+fx::Effect& SceneRenderer::effect(const std::string& name) { return *impl_->slot(name).effect; }
+
+void SceneRenderer::set_transfer_function(const std::string& name, const fx::TransferFunction& tf) {
+    Slot& s = impl_->slot(name);
+    s.tf = fixed_range(tf, s.effect->scalar_range());
+    if (s.renderer) s.renderer->set_transfer_function(s.tf);
+}
+
+void SceneRenderer::set_terrain_drawn(bool drawn) {
+    Impl& m = *impl_;
+    if (drawn && !m.scene.has_terrain()) throw fx::Error("scene: there is no terrain to draw");
+    if (drawn && !m.terrain) m.terrain = std::make_shared<TerrainLod>(m.scene.ground, std::nullopt, m.scene.lod);
+    m.draw_terrain = drawn;
+}
+bool SceneRenderer::terrain_drawn() const { return impl_->draw_terrain; }
+void SceneRenderer::set_background(const glm::dvec3& rgb) {
+    if (!std::isfinite(rgb.r) || !std::isfinite(rgb.g) || !std::isfinite(rgb.b)) throw fx::Error("scene: the background is not finite");
+    impl_->scene.background = rgb;
+}
+void SceneRenderer::set_timing(bool timing) { impl_->timing = timing; }
+double SceneRenderer::time() const { return impl_->time; }
+void SceneRenderer::set_time(double seconds) {
+    if (!std::isfinite(seconds)) throw fx::Error("scene: the time is not finite");
+    impl_->time = seconds;
+}
+
 void SceneRenderer::set_fog_path(fx::RenderPath path) {
-    if (impl_->fog) impl_->fog->path = path;
+    if (impl_->fog) impl_->slot("fog").path = path;
 }
 void SceneRenderer::set_aurora_path(fx::RenderPath path) {
-    if (impl_->aurora) impl_->aurora->path = path;
+    if (impl_->aurora) impl_->slot("aurora").path = path;
 }
 void SceneRenderer::set_pixel_error(double pixels) {
     if (!(pixels > 0.0) || !std::isfinite(pixels)) throw fx::Error("terrain scene: the pixel error must be positive");
     impl_->scene.pixel_error = pixels;
+    if (impl_->fog) impl_->fog->settings().pixel_error = pixels;
 }
 
 const Scene& SceneRenderer::scene() const { return impl_->scene; }
-const ContinuousLod& SceneRenderer::terrain_lod() const { return impl_->terrain; }
-const LodMesh& SceneRenderer::terrain_mesh() const { return impl_->terrain_mesh; }
-const fx::CellMesh& SceneRenderer::fog_prisms() const { return impl_->fog ? impl_->fog->prisms : impl_->no_prisms; }
+const ContinuousLod& SceneRenderer::terrain_lod() const {
+    if (!impl_->terrain) throw fx::Error("scene: there is no terrain LOD (no terrain drawn and no fog)");
+    return impl_->terrain->lod();
+}
+const LodMesh& SceneRenderer::terrain_mesh() const { return impl_->terrain ? impl_->terrain->mesh() : impl_->no_mesh; }
+const fx::CellMesh& SceneRenderer::fog_prisms() const { return impl_->fog ? impl_->fog->mesh() : impl_->no_prisms; }
 const fx::CellMesh& SceneRenderer::aurora_prisms() const {
-    return impl_->aurora ? impl_->aurora->prisms : impl_->no_prisms;
+    return impl_->aurora ? impl_->aurora->mesh() : impl_->no_prisms;
 }
 
 } // namespace terrain

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -115,6 +116,18 @@ private:
     std::set<std::string> used_;
 };
 
+// A number as a user wrote it: "60", "0.5", "1e-06".
+std::string fx_format(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
+// An effect's own constructor checks its parameters (cross-parameter rules included).
+void validate_effect_params(const fx::CampfireParams& p) { fx::Campfire check(p); }
+void validate_effect_params(const fx::SearchLightParams& p) { fx::SearchLight check(p); }
+void validate_effect_params(const fx::LaserConeParams& p) { fx::LaserCone check(p); }
+
 std::string resolve(const std::string& base_dir, const std::string& file) {
     const std::filesystem::path p(file);
     return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).lexically_normal().string();
@@ -137,8 +150,11 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
     if (!s.has(key)) return fallback;
     const std::string name = s.string(key);
     fx::RenderPath path;
-    if (!fx::parse_render_path(name, path))
-        throw s.error(key, "unknown render path '" + name + "' (expected pcp, pcp-exact, mip)");
+    if (!fx::parse_render_path(name, path)) {
+        std::string names;
+        for (fx::RenderPath p : fx::kRenderPaths) names += std::string(names.empty() ? "" : ", ") + fx::render_path_name(p);
+        throw s.error(key, "unknown render path '" + name + "' (expected " + names + ")");
+    }
     return path;
 }
 
@@ -174,8 +190,9 @@ HeightField load_height_map(Section& s, const std::string& key, Section& options
     }
 }
 
-HeightField parse_terrain(Section s, const std::string& base_dir) {
+HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
     HeightField ground;
+    draw = s.boolean("draw", true);
     if (s.has("height_map") == s.has("procedural"))
         throw s.error("", "give either height_map or procedural");
     if (s.has("height_map")) {
@@ -235,6 +252,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
     fog.transfer_function = load_transfer_function(s, base_dir);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
+    fog.enabled = s.boolean("enabled", true);
     s.finish();
     return fog;
 }
@@ -262,8 +280,155 @@ AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
     a.transfer_function = load_transfer_function(s, base_dir);
     a.path = parse_path(s, "path", fx::RenderPath::Mip);
     a.pixel_error = s.positive("pixel_error", 4.0);
+    a.enabled = s.boolean("enabled", true);
     s.finish();
     return a;
+}
+
+glm::dvec3 direction(Section& s, const std::string& key, const glm::dvec3& fallback) {
+    const glm::dvec3 d = s.vector<3>(key, fallback);
+    if (d == glm::dvec3(0.0)) throw s.error(key, "must not be zero");
+    return d;
+}
+
+int bounded(Section& s, const std::string& key, int fallback, int lo, int hi) { return int(s.integer(key, fallback, lo, hi)); }
+
+double non_negative(Section& s, const std::string& key, double fallback) {
+    const double d = s.number(key, fallback);
+    if (d < 0.0) throw s.error(key, "must not be negative");
+    return d;
+}
+
+double in_range(Section& s, const std::string& key, double fallback, double lo, double hi) {
+    const double d = s.number(key, fallback);
+    if (d < lo || d > hi) throw s.error(key, "must be in [" + fx_format(lo) + ", " + fx_format(hi) + "]");
+    return d;
+}
+
+fx::CampfireParams parse_campfire(Section& s) {
+    fx::CampfireParams p;
+    p.position = s.vector<3>("position", p.position);
+    p.base_radius = s.positive("base_radius", p.base_radius);
+    p.height = s.positive("height", p.height);
+    p.taper = non_negative(s, "taper", p.taper);
+    p.cells_across = bounded(s, "cells_across", p.cells_across, 2, 256);
+    p.cells_up = bounded(s, "cells_up", p.cells_up, 1, 256);
+    p.intensity = non_negative(s, "intensity", p.intensity);
+    p.turbulence = non_negative(s, "turbulence", p.turbulence);
+    p.noise_frequency = s.positive("noise_frequency", p.noise_frequency);
+    p.noise_stretch = s.positive("noise_stretch", p.noise_stretch);
+    p.noise_octaves = bounded(s, "noise_octaves", p.noise_octaves, 1, 8);
+    p.rise_speed = s.number("rise_speed", p.rise_speed);
+    p.flicker_rate = s.number("flicker_rate", p.flicker_rate);
+    p.seed = std::uint32_t(s.integer("seed", p.seed, 0, 0xffffffffL));
+    return p;
+}
+
+fx::SearchLightParams parse_search_light(Section& s) {
+    fx::SearchLightParams p;
+    p.position = s.vector<3>("position", p.position);
+    p.direction = direction(s, "direction", p.direction);
+    p.range = s.positive("range", p.range);
+    p.spread_degrees = in_range(s, "spread_degrees", p.spread_degrees, 0.0, 60.0);
+    p.lens_radius = s.positive("lens_radius", p.lens_radius);
+    p.intensity = non_negative(s, "intensity", p.intensity);
+    p.segments = bounded(s, "segments", p.segments, 3, 256);
+    p.rings = bounded(s, "rings", p.rings, 1, 64);
+    p.slices = bounded(s, "slices", p.slices, 1, 1024);
+    if (s.has("sweep")) {
+        Section w = s.object("sweep");
+        p.sweep.axis = direction(w, "axis", p.sweep.axis);
+        p.sweep.amplitude_degrees = in_range(w, "amplitude_degrees", p.sweep.amplitude_degrees, 0.0, 180.0);
+        p.sweep.period = w.positive("period", p.sweep.period);
+        p.sweep.phase_degrees = w.number("phase_degrees", p.sweep.phase_degrees);
+        w.finish();
+    }
+    return p;
+}
+
+fx::LaserConeParams parse_laser_cone(Section& s) {
+    fx::LaserConeParams p;
+    p.position = s.vector<3>("position", p.position);
+    p.direction = direction(s, "direction", p.direction);
+    p.range = s.positive("range", p.range);
+    p.radius = s.positive("radius", p.radius);
+    p.divergence_degrees = in_range(s, "divergence_degrees", p.divergence_degrees, 0.0, 10.0);
+    p.intensity = non_negative(s, "intensity", p.intensity);
+    p.end_fade = in_range(s, "end_fade", p.end_fade, 0.0, 1.0);
+    p.segments = bounded(s, "segments", p.segments, 3, 64);
+    p.slices = bounded(s, "slices", p.slices, 1, 4096);
+    p.dust_amount = in_range(s, "dust_amount", p.dust_amount, 0.0, 1.0);
+    p.dust_frequency = s.positive("dust_frequency", p.dust_frequency);
+    p.dust_octaves = bounded(s, "dust_octaves", p.dust_octaves, 1, 8);
+    p.dust_drift = s.vector<3>("dust_drift", p.dust_drift);
+    p.seed = std::uint32_t(s.integer("seed", p.seed, 0, 0xffffffffL));
+    return p;
+}
+
+EffectSpec parse_effect(Section s, const std::string& base_dir) {
+    EffectSpec e;
+    const std::string type = s.string("type");
+    if (type == "campfire") e.params = parse_campfire(s);
+    else if (type == "search_light") e.params = parse_search_light(s);
+    else if (type == "laser_cone") e.params = parse_laser_cone(s);
+    else if (type == "ground_fog" || type == "aurora")
+        throw s.error("type", "'" + type + "' is declared by the scene's \"" + (type == "aurora" ? "aurora" : "fog") +
+                                  "\" section, not in effects");
+    else throw s.error("type", "unknown effect type '" + type + "' (expected campfire, search_light, laser_cone)");
+    e.name = s.string("name", type);
+    if (e.name.empty()) throw s.error("name", "must not be empty");
+    e.enabled = s.boolean("enabled", true);
+    e.path = parse_path(s, "path", fx::RenderPath::PcpExact);
+    e.absorb = s.boolean("absorb", false);
+    e.transfer_function = load_transfer_function(s, base_dir);
+    s.finish();
+    // The effect's own checks (cross-parameter rules), named by the entry.
+    try {
+        std::visit([](const auto& params) { validate_effect_params(params); }, e.params);
+    } catch (const fx::Error& err) {
+        throw s.error("", err.what());
+    }
+    return e;
+}
+
+std::vector<EffectSpec> parse_effects(Section& root, const std::string& base_dir) {
+    const json& list = root.at("effects");
+    if (!list.is_array()) throw root.error("effects", "expected an array of effects");
+    std::vector<EffectSpec> effects;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string where = "effects[" + std::to_string(i) + "]";
+        EffectSpec e = parse_effect(Section(list[i], where, root.source()), base_dir);
+        if (e.name == "fog" || e.name == "aurora")
+            throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is reserved for the scene's " + e.name +
+                            " section");
+        for (std::size_t k = 0; k < effects.size(); ++k)
+            if (effects[k].name == e.name)
+                throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is already the name of effects[" +
+                                std::to_string(k) + "] (give each effect its own \"name\")");
+        effects.push_back(std::move(e));
+    }
+    return effects;
+}
+
+CameraPath parse_camera_path(Section s) {
+    CameraPath path;
+    path.loop = s.boolean("loop", false);
+    const json& keys = s.at("keys");
+    if (!keys.is_array() || keys.size() < 2) throw s.error("keys", "expected an array of at least 2 keys");
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        Section k(keys[i], s.child("keys[" + std::to_string(i) + "]"), s.source());
+        CameraKey key;
+        key.time = k.number("time");
+        key.eye = k.vector<3>("eye");
+        key.target = k.vector<3>("target");
+        if (key.eye == key.target) throw k.error("target", "is the eye position");
+        if (!path.keys.empty() && !(key.time > path.keys.back().time))
+            throw k.error("time", "must be later than the previous key's");
+        k.finish();
+        path.keys.push_back(key);
+    }
+    s.finish();
+    return path;
 }
 
 fx::Camera parse_camera(Section s) {
@@ -300,7 +465,11 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Scene scene;
     scene.source = source;
     scene.description = root.string("description", std::string());
-    scene.ground = parse_terrain(root.object("terrain"), base_dir);
+    if (root.has("terrain")) {
+        scene.ground = parse_terrain(root.object("terrain"), base_dir, scene.draw_terrain);
+    } else if (!root.has("effects")) {
+        throw root.error("terrain", "is required (a scene without effects needs a terrain)");
+    }
     if (root.has("lod")) {
         Section l = root.object("lod");
         scene.pixel_error = l.positive("pixel_error", scene.pixel_error);
@@ -310,9 +479,14 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         scene.lod.geomorph = l.boolean("geomorph", true);
         l.finish();
     }
-    if (root.has("fog")) scene.fog = parse_fog(root.object("fog"), scene.ground, base_dir);
+    if (root.has("fog")) {
+        if (!scene.has_terrain()) throw root.error("fog", "needs a terrain (the fog map lies on its grid)");
+        scene.fog = parse_fog(root.object("fog"), scene.ground, base_dir);
+    }
     if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), base_dir);
+    if (root.has("effects")) scene.effects = parse_effects(root, base_dir);
     scene.camera = parse_camera(root.object("camera"));
+    if (root.has("camera_path")) scene.camera_path = parse_camera_path(root.object("camera_path"));
     if (root.has("render")) {
         Section r = root.object("render");
         scene.width = int(r.integer("width", scene.width, 1, 16384));
@@ -326,6 +500,29 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         if (glm::dvec3(0.0) == scene.surface.sun_direction) throw s.error("sun", "must not be zero");
         scene.surface.ambient = s.number("ambient", scene.surface.ambient);
         if (scene.surface.ambient < 0.0 || scene.surface.ambient > 1.0) throw s.error("ambient", "must be in [0, 1]");
+        if (s.has("ramp")) {
+            // [[fraction, [r, g, b]], ...]: colour by height fraction, 1 to 8 stops, fractions rising.
+            const json& ramp = s.at("ramp");
+            const std::string bad = "expected 1 to 8 stops [fraction, [r, g, b]] with fractions in [0, 1], not decreasing";
+            if (!ramp.is_array() || ramp.empty() || ramp.size() > 8) throw s.error("ramp", bad);
+            scene.surface.ramp.clear();
+            for (std::size_t k = 0; k < ramp.size(); ++k) {
+                const json& stop = ramp[k];
+                const std::string key = "ramp[" + std::to_string(k) + "]";
+                if (!stop.is_array() || stop.size() != 2 || !stop[0].is_number() || !stop[1].is_array() || stop[1].size() != 3)
+                    throw s.error(key, bad);
+                const double f = stop[0].get<double>();
+                glm::dvec3 c;
+                for (int i = 0; i < 3; ++i) {
+                    if (!stop[1][i].is_number() || !std::isfinite(stop[1][i].get<double>()) || stop[1][i].get<double>() < 0.0)
+                        throw s.error(key, "colour components must be finite and ≥ 0");
+                    c[i] = stop[1][i].get<double>();
+                }
+                if (!(f >= 0.0 && f <= 1.0) || (!scene.surface.ramp.empty() && f < scene.surface.ramp.back().first))
+                    throw s.error(key, bad);
+                scene.surface.ramp.emplace_back(f, c);
+            }
+        }
         s.finish();
     }
     root.finish();

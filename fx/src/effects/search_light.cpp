@@ -1,0 +1,117 @@
+// Based on: Roettger & Ertl 2003, Figure 2 and Table 4 (search light, quadratic attenuation).
+#include "fx/search_light.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "effects/cone_mesh.hpp"
+#include "fx/error.hpp"
+
+namespace fx {
+
+namespace {
+
+constexpr double kDegrees = 0.017453292519943295; // radians per degree
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+void check(bool ok, const char* name, const char* what) {
+    if (!ok) throw Error(std::string("search_light: ") + name + " " + what);
+}
+
+void validate(const SearchLightParams& p) {
+    check(finite(p.position), "position", "is not finite");
+    check(finite(p.direction) && glm::length(p.direction) > 0.0, "direction", "must be finite and non-zero");
+    check(p.range > 0.0 && std::isfinite(p.range), "range", "must be positive");
+    check(p.spread_degrees >= 0.0 && p.spread_degrees <= 60.0, "spread_degrees", "must be in [0, 60]");
+    check(p.lens_radius > 0.0 && std::isfinite(p.lens_radius), "lens_radius", "must be positive");
+    check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
+    check(p.segments >= 3 && p.segments <= 256, "segments", "must be in 3..256");
+    check(p.rings >= 1 && p.rings <= 64, "rings", "must be in 1..64");
+    check(p.slices >= 1 && p.slices <= 1024, "slices", "must be in 1..1024");
+    const SweepMotion& s = p.sweep;
+    check(s.amplitude_degrees >= 0.0 && s.amplitude_degrees <= 180.0, "sweep.amplitude_degrees", "must be in [0, 180]");
+    check(s.period > 0.0 && std::isfinite(s.period), "sweep.period", "must be positive");
+    check(std::isfinite(s.phase_degrees), "sweep.phase_degrees", "is not finite");
+    check(finite(s.axis) && (s.amplitude_degrees == 0.0 || glm::length(s.axis) > 0.0), "sweep.axis",
+          "must be finite and non-zero");
+}
+
+effects::ConeShape shape_of(const SearchLightParams& p) {
+    return {p.range, p.lens_radius, p.spread_degrees * kDegrees, p.segments, p.rings, p.slices};
+}
+
+bool same_shape(const SearchLightParams& a, const SearchLightParams& b) {
+    return a.range == b.range && a.spread_degrees == b.spread_degrees && a.lens_radius == b.lens_radius &&
+           a.segments == b.segments && a.rings == b.rings && a.slices == b.slices;
+}
+
+} // namespace
+
+SearchLight::SearchLight(const SearchLightParams& params) : Effect("intensity"), params_(params) { validate(params_); }
+
+void SearchLight::set_params(const SearchLightParams& params) {
+    validate(params);
+    if (!same_shape(params, params_)) dirty_mesh_ = true;
+    if (params.intensity != params_.intensity) dirty_scalars_ = true;
+    params_ = params;
+}
+
+void SearchLight::set_pose(const glm::dvec3& position, const glm::dvec3& direction) {
+    SearchLightParams p = params_;
+    p.position = position;
+    p.direction = direction;
+    validate(p);
+    params_ = p;
+}
+
+glm::dvec3 SearchLight::direction_at(double time) const {
+    const glm::dvec3 d = glm::normalize(params_.direction);
+    const SweepMotion& s = params_.sweep;
+    if (s.amplitude_degrees == 0.0) return d;
+    const double angle = s.amplitude_degrees * kDegrees *
+                         std::sin(6.283185307179586 * time / s.period + s.phase_degrees * kDegrees);
+    const glm::dmat4 r = glm::rotate(glm::dmat4(1.0), angle, glm::normalize(s.axis));
+    return glm::normalize(glm::dvec3(r * glm::dvec4(d, 0.0)));
+}
+
+glm::dmat4 SearchLight::pose_at(double time) const { return frame_along(params_.position, direction_at(time)); }
+
+Bounds SearchLight::local_bounds() const { return effects::cone_bounds(shape_of(params_)); }
+
+void SearchLight::build() {
+    effects::ConeMesh cone = effects::build_cone_mesh(shape_of(params_));
+    mesh_ = std::move(cone.mesh);
+    along_ = std::move(cone.along);
+    across_ = std::move(cone.across);
+    mesh_.scalars.push_back({scalar_name(), std::vector<float>(mesh_.points.size(), 0.0f)});
+    evaluate();
+    count_build();
+}
+
+void SearchLight::evaluate() {
+    std::vector<float>& v = mesh_.scalars[0].values;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const double a = 1.0 - along_[i], b = across_[i];
+        v[i] = float(params_.intensity * a * a * (1.0 - b * b));
+    }
+}
+
+EffectChanges SearchLight::simulate(const EffectView&) {
+    EffectChanges changes;
+    if (dirty_mesh_) {
+        build();
+        changes.mesh = true;
+    } else if (dirty_scalars_) {
+        evaluate();
+        count_scalar_update();
+        changes.scalars = true;
+    }
+    dirty_mesh_ = dirty_scalars_ = false;
+    return changes;
+}
+
+} // namespace fx

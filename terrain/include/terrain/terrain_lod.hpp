@@ -1,0 +1,48 @@
+// cellfx terrain — a continuous LOD and its extracted mesh, refined at most once per view and
+// shared by everything drawn from it (the terrain surface and the ground fog ride on one LOD, so
+// the fog's prisms stand exactly on the drawn ground).
+//
+// update(view) does nothing for the view of the previous update (same eye, scale, error bound
+// and budget: a camera that only turns needs no new LOD); otherwise it refines
+// (ContinuousLod::update), extracts the mesh and compares it with the previous one, and bumps
+// version() only when the mesh really changed. Users keep the version they built from and
+// rebuild only when it differs.
+//
+// Ownership: owns the ContinuousLod and the mesh. Not thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "terrain/continuous_lod.hpp"
+#include "terrain/height_field.hpp"
+
+namespace terrain {
+
+class TerrainLod {
+public:
+    // Throws like ContinuousLod's constructors.
+    TerrainLod(HeightField ground, std::optional<HeightField> layer_thickness, const LodSettings& settings = {});
+
+    // Refines for `view` (see the header comment). Returns true if mesh() changed. `stats`, when
+    // given, receives the refinement's statistics (all zero when nothing was refined).
+    bool update(const LodView& view, LodStats* stats = nullptr);
+    // Drops all LOD state: the next update() rebuilds from the root.
+    void reset();
+
+    const LodMesh& mesh() const { return mesh_; }
+    std::uint64_t version() const { return version_; } // 0 before the first update
+    const ContinuousLod& lod() const { return lod_; }
+    // Wall time of the last refinement and of its extraction (ms; 0 when update() did nothing).
+    double last_update_ms() const { return update_ms_; }
+    double last_extract_ms() const { return extract_ms_; }
+
+private:
+    ContinuousLod lod_;
+    LodMesh mesh_, previous_;
+    std::optional<LodView> last_view_;
+    std::uint64_t version_ = 0;
+    double update_ms_ = 0.0, extract_ms_ = 0.0;
+};
+
+} // namespace terrain
