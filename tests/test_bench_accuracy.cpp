@@ -79,7 +79,7 @@ TEST_CASE("bench accuracy --quick writes its table and plots, with errors ordere
     const std::vector<CsvRow> rows = read_csv(out + "/accuracy.csv");
     std::map<std::string, std::map<std::string, const CsvRow*>> by_scene; // scene → flavour → row
     for (const CsvRow& r : rows) by_scene[r.text("scene")][r.text("flavour")] = &r;
-    REQUIRE(by_scene.size() == 4); // blunt fin, FEM duct, fog from above, fog inside
+    REQUIRE(by_scene.size() == 6); // blunt fin, FEM duct, fog from above and inside, campfire, search light
     for (const auto& [scene, flavours] : by_scene) {
         INFO("scene " << scene);
         for (const auto& [name, row] : flavours) {

@@ -39,6 +39,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -51,6 +52,7 @@
 #include "commands.hpp"
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
+#include "fx/effect.hpp"
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/image.hpp"
@@ -287,6 +289,50 @@ BenchScene fog_scene(bool inside, bool quick) {
     std::snprintf(note, sizeof note, "fog_valley.json's fog prisms for this view (%zu prisms), %s", s.mesh.cell_count(),
                   inside ? "eye in the crater's fog, looking across it" : "the scene's camera");
     s.note = note;
+    return s;
+}
+
+// One effect of a scene file (content/scenes/campfire.json's fire, searchlight.json's first
+// beam) at scene time `time`, seen by the scene's camera at that time: its mesh in its own frame
+// and the camera moved into that frame, as terrain::SceneRenderer draws it, without the terrain
+// (the same in every path; the reference cannot draw it). The effect's transfer function, mapped
+// onto its scalar range as the scene renderer maps it, serves every model: the effects are
+// emissive, but their extinction is what absorb and the sorted paths would use.
+BenchScene effect_scene(const std::string& id, const std::string& file, double time, bool quick) {
+    const std::string path = std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + file;
+    const terrain::Scene scene = terrain::load_scene(path);
+    if (scene.effects.empty()) throw fx::Error("bench accuracy: " + path + " has no effects");
+    const terrain::EffectSpec& spec = scene.effects.front();
+    std::unique_ptr<fx::Effect> effect = terrain::make_effect(spec.params);
+    BenchScene s;
+    s.id = id;
+    s.width = quick ? 64 : 320, s.height = quick ? 48 : 240;
+    const fx::Camera world_camera = scene.camera_path ? scene.camera_path->at(time, scene.camera) : scene.camera;
+    fx::EffectView view;
+    view.camera = world_camera;
+    view.viewport_width = s.width, view.viewport_height = s.height;
+    view.time = time;
+    effect->update(view);
+    s.mesh = effect->mesh();
+    if (s.mesh.cell_count() == 0) throw fx::Error("bench accuracy: " + path + ": " + spec.name + " built no cells");
+    s.field = effect->scalar_name();
+    s.camera = fx::camera_in_frame(world_camera, effect->transform());
+    const fx::ScalarRange range = effect->scalar_range();
+    const double lo = range.lo, hi = std::max(double(range.hi), lo + 1e-6 * std::max(1.0, std::abs(lo)));
+    const fx::TransferFunction tf =
+        spec.transfer_function.normalized() ? spec.transfer_function.rescaled(lo, hi) : spec.transfer_function;
+    for (int m = 0; m < 3; ++m) s.tf[m] = tf;
+    // Scaled as on the other scenes: classic pcp's 8-bit target must not saturate, and the
+    // brightest sample of the fire (2.4) or of a beam (0.08) is no picture for maximum.
+    s.auto_peak[model_index(fx::OpticalModel::Emission)] = 0.8;
+    s.auto_peak[model_index(fx::OpticalModel::Maximum)] = 0.9;
+    s.background = scene.background;
+    char text[240];
+    std::snprintf(text, sizeof text, "%s, %s", file.c_str(), spec.name.c_str());
+    s.name = text;
+    std::snprintf(text, sizeof text, "%s's %s (%s, %zu cells) at t = %.1f s, the scene's camera", file.c_str(),
+                  spec.name.c_str(), effect->type_name(), s.mesh.cell_count(), time);
+    s.note = text;
     return s;
 }
 
@@ -555,7 +601,7 @@ struct Options {
     std::string out = "out/accuracy";
     std::string blunt_fin;
     int fem_cells = 1000000;
-    std::string scenes = "blunt-fin,fem,fog-above,fog-inside";
+    std::string scenes = "blunt-fin,fem,fog-above,fog-inside,campfire,searchlight";
     bool images = false; // every flavour's last frame as <scene>_<flavour>.png
     std::string command;
 };
@@ -692,9 +738,10 @@ int bench_accuracy(const std::vector<std::string>& args) {
     {
         std::stringstream ss(o.scenes);
         for (std::string item; std::getline(ss, item, ',');) {
-            if (item != "blunt-fin" && item != "fem" && item != "fog-above" && item != "fog-inside")
+            if (item != "blunt-fin" && item != "fem" && item != "fog-above" && item != "fog-inside" &&
+                item != "campfire" && item != "searchlight")
                 throw fx::Error("bench accuracy: --scenes: unknown scene '" + item +
-                                "' (expected blunt-fin, fem, fog-above, fog-inside)");
+                                "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight)");
             wanted.push_back(item);
         }
     }
@@ -716,6 +763,8 @@ int bench_accuracy(const std::vector<std::string>& args) {
         if (id == "fem") scenes.push_back(fem_scene(o.fem_cells));
         if (id == "fog-above") scenes.push_back(fog_scene(false, o.quick));
         if (id == "fog-inside") scenes.push_back(fog_scene(true, o.quick));
+        if (id == "campfire") scenes.push_back(effect_scene(id, "campfire.json", 2.0, o.quick));
+        if (id == "searchlight") scenes.push_back(effect_scene(id, "searchlight.json", 2.0, o.quick));
         std::printf("  scene %s built in %.2f s\n", id.c_str(), ms_since(t0) * 1e-3);
     }
     std::vector<Row> rows;
