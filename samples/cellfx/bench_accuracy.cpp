@@ -298,7 +298,8 @@ BenchScene fog_scene(bool inside, bool quick) {
 // (the same in every path; the reference cannot draw it). The effect's transfer function, mapped
 // onto its scalar range as the scene renderer maps it, serves every model: the effects are
 // emissive, but their extinction is what absorb and the sorted paths would use.
-BenchScene effect_scene(const std::string& id, const std::string& file, double time, bool quick) {
+BenchScene effect_scene(const std::string& id, const std::string& name, const std::string& file, double time,
+                        bool quick) {
     const std::string path = std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + file;
     const terrain::Scene scene = terrain::load_scene(path);
     if (scene.effects.empty()) throw fx::Error("bench accuracy: " + path + " has no effects");
@@ -327,9 +328,8 @@ BenchScene effect_scene(const std::string& id, const std::string& file, double t
     s.auto_peak[model_index(fx::OpticalModel::Emission)] = 0.8;
     s.auto_peak[model_index(fx::OpticalModel::Maximum)] = 0.9;
     s.background = scene.background;
+    s.name = name;
     char text[240];
-    std::snprintf(text, sizeof text, "%s, %s", file.c_str(), spec.name.c_str());
-    s.name = text;
     std::snprintf(text, sizeof text, "%s's %s (%s, %zu cells) at t = %.1f s, the scene's camera", file.c_str(),
                   spec.name.c_str(), effect->type_name(), s.mesh.cell_count(), time);
     s.note = text;
@@ -763,8 +763,8 @@ int bench_accuracy(const std::vector<std::string>& args) {
         if (id == "fem") scenes.push_back(fem_scene(o.fem_cells));
         if (id == "fog-above") scenes.push_back(fog_scene(false, o.quick));
         if (id == "fog-inside") scenes.push_back(fog_scene(true, o.quick));
-        if (id == "campfire") scenes.push_back(effect_scene(id, "campfire.json", 2.0, o.quick));
-        if (id == "searchlight") scenes.push_back(effect_scene(id, "searchlight.json", 2.0, o.quick));
+        if (id == "campfire") scenes.push_back(effect_scene(id, "campfire", "campfire.json", 2.0, o.quick));
+        if (id == "searchlight") scenes.push_back(effect_scene(id, "search light", "searchlight.json", 2.0, o.quick));
         std::printf("  scene %s built in %.2f s\n", id.c_str(), ms_since(t0) * 1e-3);
     }
     std::vector<Row> rows;
