@@ -10,6 +10,7 @@ packages=(
   libepoxy-dev libglfw3-dev libglm-dev libstb-dev     # GL loader, windows, maths, images
   nlohmann-json3-dev catch2 libbenchmark-dev          # JSON, tests, micro-benchmarks
   xvfb xauth                                          # a real GLFW window in tests, without a display
+  gnuplot-nox                                         # cellfx bench accuracy: the time-against-error plot
 )
 
 # Optional groups, only when named on the command line.

@@ -27,7 +27,11 @@ int run_bench(const std::vector<std::string>& args) {
                   "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE\n"
                   "  effects    shipped effect scenes (campfire, searchlight, laser, fog_valley, aurora) per render path:\n"
                   "             ms/frame, GPU ms per stage, verified against the scan-line reference; options:\n"
-                  "             --scenes a,b, --paths a,b, --frames N (8), --size WxH, --skip-verify");
+                  "             --scenes a,b, --paths a,b, --frames N (8), --size WxH, --skip-verify\n"
+                  "  accuracy   every path and flavour against the 4x4 scan-line reference: ms per frame, RMSE, max, PSNR;\n"
+                  "             writes CSV, Markdown and a plot; options: --out DIR (out/accuracy), --frames N (5),\n"
+                  "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside, --fem-cells N (1000000),\n"
+                  "             --blunt-fin DIR, --images (every flavour's frame as PNG)");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
@@ -37,7 +41,8 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "terrain") return bench_terrain(rest);
     if (args[0] == "absorption") return bench_absorption(rest);
     if (args[0] == "effects") return bench_effects(rest);
-    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain, absorption or effects)");
+    if (args[0] == "accuracy") return bench_accuracy(rest);
+    throw fx::Error("unknown benchmark '" + args[0] + "' (expected scanline, pcp, sort, terrain, absorption, effects or accuracy)");
 }
 
 } // namespace cellfx_cli

@@ -26,6 +26,8 @@ int bench_absorption(const std::vector<std::string>& args);
 
 // `cellfx bench effects`: the shipped effect scenes per render path, GPU-timed per stage, verified.
 int bench_effects(const std::vector<std::string>& args);
+// `cellfx bench accuracy`: every path and flavour, ms per frame against error (CSV, Markdown, plot).
+int bench_accuracy(const std::vector<std::string>& args);
 
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);

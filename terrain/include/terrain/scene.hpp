@@ -45,6 +45,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -102,6 +103,8 @@ struct AuroraSpec {
 // A free-standing effect the scene calls for (one entry of "effects").
 using EffectParams = std::variant<fx::CampfireParams, fx::SearchLightParams, fx::LaserConeParams>;
 const char* effect_type_name(const EffectParams& params); // "campfire", "search_light", "laser_cone"
+// The effect those parameters describe (throws fx::Error as its constructor does).
+std::unique_ptr<fx::Effect> make_effect(const EffectParams& params);
 
 struct EffectSpec {
     std::string name;                       // unique within the scene

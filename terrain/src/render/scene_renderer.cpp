@@ -53,17 +53,6 @@ struct Slot {
     EffectFrameStats stats;
 };
 
-std::unique_ptr<fx::Effect> make_effect(const EffectParams& params) {
-    struct Make {
-        std::unique_ptr<fx::Effect> operator()(const fx::CampfireParams& p) const { return std::make_unique<fx::Campfire>(p); }
-        std::unique_ptr<fx::Effect> operator()(const fx::SearchLightParams& p) const {
-            return std::make_unique<fx::SearchLight>(p);
-        }
-        std::unique_ptr<fx::Effect> operator()(const fx::LaserConeParams& p) const { return std::make_unique<fx::LaserCone>(p); }
-    };
-    return std::visit(Make{}, params);
-}
-
 // GL_TIME_ELAPSED around a block, when timing is on.
 class GpuTimer {
 public:
@@ -413,6 +402,17 @@ SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
 
 void SceneRenderer::update(double dt, const fx::Camera& camera, int width, int height) {
     impl_->update(dt, camera, width, height);
+}
+
+std::unique_ptr<fx::Effect> make_effect(const EffectParams& params) {
+    struct Make {
+        std::unique_ptr<fx::Effect> operator()(const fx::CampfireParams& p) const { return std::make_unique<fx::Campfire>(p); }
+        std::unique_ptr<fx::Effect> operator()(const fx::SearchLightParams& p) const {
+            return std::make_unique<fx::SearchLight>(p);
+        }
+        std::unique_ptr<fx::Effect> operator()(const fx::LaserConeParams& p) const { return std::make_unique<fx::LaserCone>(p); }
+    };
+    return std::visit(Make{}, params);
 }
 
 FrameStats SceneRenderer::render(const Target& target) {

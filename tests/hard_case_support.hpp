@@ -1,0 +1,357 @@
+// Shared by the hard-case and property tests (test_hard_cases*.cpp, test_property*.cpp): every
+// render path behind one call, each path's stated tolerance in ONE place, the closed-form
+// image of a box whose scalar is linear in space, and the comparison that measures, prints and
+// writes actual/expected/diff PNGs on failure.
+//
+// Paths: the CPU scan-line renderer (fx::ScanlineRenderer) and the GPU flavours of
+// fx::CellRenderer — pcp (classic, 8-bit), pcp-exact, pcp-exact with fog, mip, absorption
+// (classic) and absorption-exact. Each is compared with the reference of its own optical model:
+// emission for pcp and pcp-exact, maximum for mip, emission–absorption for the rest.
+//
+// The closed form: a mesh that fills the axis-aligned box [lo, hi] with a scalar linear in space,
+// s(p) = g·(p − lo) + offset. Every path interpolates linearly inside cells and on faces, so along
+// each pixel's ray the scalar is exactly linear between the ray's entry into the box and its
+// exit, and the pixel is the transfer function's integral over that one segment
+// (fx::emission_integral / segment_maximum / emission_absorption — the CPU's one source of
+// truth; test_segment_integral.cpp checks them against quadrature), starting at the near plane.
+// Cells inside the box (their size, shape, slivers, zero volume) do not change the answer: that
+// is what makes these cases hard for the renderers and easy for the test.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include "fx/camera.hpp"
+#include "fx/cell_mesh.hpp"
+#include "fx/cell_renderer.hpp"
+#include "fx/image.hpp"
+#include "fx/scanline_renderer.hpp"
+#include "fx/segment_integral.hpp"
+#include "fx/synthetic_meshes.hpp"
+#include "fx/transfer_function.hpp"
+#include "gl_fixture.hpp"
+
+namespace hard_case {
+
+enum class Path { Scanline, Pcp, PcpExact, PcpExactFog, Mip, Absorption, AbsorptionExact };
+inline const std::vector<Path> kAllPaths = {Path::Scanline, Path::Pcp,        Path::PcpExact,       Path::PcpExactFog,
+                                            Path::Mip,      Path::Absorption, Path::AbsorptionExact};
+// The paths whose model absorbs (exp(−τ) appears): for extinction-only cases.
+inline const std::vector<Path> kAbsorbingPaths = {Path::Scanline, Path::PcpExactFog, Path::Absorption,
+                                                  Path::AbsorptionExact};
+
+inline const char* name(Path p) {
+    switch (p) {
+    case Path::Scanline: return "scanline";
+    case Path::Pcp: return "pcp";
+    case Path::PcpExact: return "pcp-exact";
+    case Path::PcpExactFog: return "pcp-exact-fog";
+    case Path::Mip: return "mip";
+    case Path::Absorption: return "absorption";
+    case Path::AbsorptionExact: return "absorption-exact";
+    }
+    return "?";
+}
+
+// The optical model each path computes (and the reference it is compared with). The scan-line
+// renderer is run with the model of the case (Scene::scanline_model).
+inline fx::OpticalModel model_of(Path p, fx::OpticalModel scanline_model) {
+    switch (p) {
+    case Path::Pcp:
+    case Path::PcpExact: return fx::OpticalModel::Emission;
+    case Path::Mip: return fx::OpticalModel::Maximum;
+    case Path::Scanline: return scanline_model;
+    default: return fx::OpticalModel::EmissionAbsorption;
+    }
+}
+
+// ---- stated tolerances ------------------------------------------------------------------------
+// Per channel, as fractions of the reference's peak (its largest value in any channel), with a
+// fraction of pixels allowed beyond the per-pixel value (pixel centres within rounding of a
+// silhouette, which a rasteriser and the reference may assign differently) and a bound on the
+// mean |difference| over all channels of all pixels.
+struct Tolerance {
+    double pixel = 0.0;          // per channel: pixel·peak + pixel_absolute + relative·|expected|
+    double pixel_absolute = 0.0;
+    double relative = 0.0;
+    double beyond = 0.01;        // fraction of pixels allowed beyond the per-pixel bound
+    double mean = 0.0;           // mean |difference| over all channels: mean·peak + mean_absolute
+    double mean_absolute = 0.0;
+    double pixel_bound(double peak, double expected) const {
+        return pixel * peak + pixel_absolute + relative * std::abs(expected);
+    }
+    double mean_bound(double peak) const { return mean * peak + mean_absolute; }
+};
+
+// `cells_on_ray`: the most cells a pixel's ray crosses (classic pcp's rounding adds up per cell).
+inline Tolerance stated_tolerance(Path p, int cells_on_ray) {
+    const double n = std::max(cells_on_ray, 1);
+    switch (p) {
+    case Path::Scanline:
+        // Double-precision segments; the float image (~6e-8) and float screen positions
+        // (test_scanline.cpp: 1e-4 against closed forms).
+        return {1e-4, 0.0, 0.0, 0.01, 1e-5, 0.0};
+    case Path::PcpExact:
+    case Path::PcpExactFog:
+    case Path::Mip:
+        // Both sides integrate exactly: float32 on the GPU against double, the 4096-sample
+        // emission table, silhouette pixels (test_pcp_scanline.cpp, docs/render_paths.md).
+        return {0.005, 0.0, 0.0, 0.01, 0.0005, 0.0};
+    case Path::Pcp:
+        // 8 bits: each cell on a ray adds its light rounded to 1/255 and its α difference is
+        // quantised to 1/255 of its Δd; κ is the trapezoid rule over each cell (≤ ~15% of a
+        // pixel where a kink of the transfer function falls inside a cell): per pixel
+        // 0.5·N/255 + 15% of the pixel; mean: N roundings of ±0.5/255 add to ~0.29·√N/255,
+        // + 2% of peak (test_pcp_scanline.cpp).
+        return {0.0, 0.5 * n / 255.0, 0.15, 0.01, 0.02, 0.3 * std::sqrt(n) / 255.0};
+    case Path::Absorption:
+        // §II's approximations: thickness and table coordinates linear on screen over each
+        // polygon (off by a cell's perspective foreshortening), colour C/α interpolated
+        // between exact vertex values (test_absorption_scanline.cpp, docs/absorption.md).
+        return {0.04, 0.0, 0.0, 0.01, 0.004, 0.0};
+    case Path::AbsorptionExact:
+        // The pre-integration table (128² scalars × 64 lengths, trilinear), float32 against
+        // double, silhouette pixels (test_absorption_scanline.cpp, docs/absorption.md).
+        return {0.015, 0.0, 0.0, 0.01, 0.001, 0.0};
+    }
+    return {};
+}
+
+// ---- a case -----------------------------------------------------------------------------------
+
+struct Scene {
+    fx::CellMesh mesh;
+    std::string field = "s";
+    fx::TransferFunction tf;
+    fx::Camera camera;
+    int width = 40, height = 40;
+    fx::SortMethod sort = fx::SortMethod::Xmpvo;       // absorption paths
+    fx::OpticalModel scanline_model = fx::OpticalModel::EmissionAbsorption;
+    int cells_on_ray = 8;                               // classic pcp's tolerance
+};
+
+// Renders one path (a GL context is made current for the GPU paths).
+inline fx::Image render(const Scene& s, Path p, fx::CellRenderStats* stats = nullptr) {
+    const fx::ScalarField* field = s.mesh.find_scalar(s.field);
+    REQUIRE(field != nullptr);
+    if (p == Path::Scanline) {
+        fx::ScanlineOptions o;
+        o.model = s.scanline_model;
+        return fx::ScanlineRenderer(s.mesh).render(s.camera, s.width, s.height, *field, s.tf, o);
+    }
+    fx_test::gl_context();
+    fx::CellRenderer renderer(s.mesh, s.field, s.tf);
+    fx::CellRenderOptions o;
+    o.sort = s.sort;
+    fx::RenderPath path = fx::RenderPath::PcpExact;
+    switch (p) {
+    case Path::Pcp: path = fx::RenderPath::Pcp; break;
+    case Path::PcpExactFog: o.fog = true; break;
+    case Path::Mip: path = fx::RenderPath::Mip; break;
+    case Path::Absorption: path = fx::RenderPath::Absorption; break;
+    case Path::AbsorptionExact: path = fx::RenderPath::AbsorptionExact; break;
+    default: break;
+    }
+    fx::CellRenderStats local;
+    const fx::Image image = renderer.render_to_image(s.camera, s.width, s.height, path, o, stats ? stats : &local);
+    fx_test::require_no_gl_error();
+    return image;
+}
+
+// The scan-line reference of `model` for the scene.
+inline fx::Image scanline_reference(const Scene& s, fx::OpticalModel model) {
+    fx::ScanlineOptions o;
+    o.model = model;
+    return fx::ScanlineRenderer(s.mesh).render(s.camera, s.width, s.height, *s.mesh.find_scalar(s.field), s.tf, o);
+}
+
+// ---- the closed form ------------------------------------------------------------------------
+
+struct LinearBox {
+    glm::dvec3 lo{0.0}, hi{1.0};
+    glm::dvec3 gradient{0.0};
+    double offset = 0.0;
+    double scalar(const glm::dvec3& p) const { return glm::dot(gradient, p - lo) + offset; }
+};
+
+// The ray's segment inside the box, from the near plane on; false when it misses. Slabs in
+// double: a ray parallel to a face plane is inside only strictly between the planes.
+inline bool box_segment(const LinearBox& box, const fx::Camera& cam, const fx::Ray& ray, double& t0, double& t1) {
+    t0 = -1e300, t1 = 1e300;
+    for (int a = 0; a < 3; ++a) {
+        if (ray.direction[a] == 0.0) {
+            if (!(ray.origin[a] > box.lo[a] && ray.origin[a] < box.hi[a])) return false;
+            continue;
+        }
+        double u = (box.lo[a] - ray.origin[a]) / ray.direction[a], v = (box.hi[a] - ray.origin[a]) / ray.direction[a];
+        if (u > v) std::swap(u, v);
+        t0 = std::max(t0, u), t1 = std::min(t1, v);
+    }
+    // The near plane: eye depth near_distance (perspective rays start at the eye, orthographic
+    // ones on the plane through it).
+    const double t_near = cam.near_distance / glm::dot(ray.direction, cam.forward());
+    t0 = std::max(t0, t_near);
+    return t1 > t0;
+}
+
+// The model's value along one segment, as the path writes it (premultiplied RGBA).
+inline glm::vec4 segment_value(Path p, fx::OpticalModel scanline_model, const fx::TransferFunction& tf, double s0,
+                               double s1, double length) {
+    const fx::OpticalModel model = model_of(p, scanline_model);
+    if (model == fx::OpticalModel::Maximum) return glm::vec4(glm::vec3(fx::segment_maximum(tf, s0, s1)), 0.0f);
+    if (model == fx::OpticalModel::Emission) return glm::vec4(glm::vec3(fx::emission_integral(tf, s0, s1, length)), 0.0f);
+    if (p == Path::PcpExactFog) {
+        // The fog flavour's stated model: optical depth τ and emission E accumulated, composited
+        // once: (E·(1 − e^−τ)/τ, 1 − e^−τ) — exact for a medium of one colour.
+        std::vector<fx::TransferPoint> white = tf.points();
+        for (fx::TransferPoint& q : white) q.color = glm::dvec3(1.0);
+        const double tau = fx::emission_integral(fx::TransferFunction(white, tf.normalized()), s0, s1, length).x;
+        const glm::dvec3 e = fx::emission_integral(tf, s0, s1, length);
+        const double a = -std::expm1(-tau);
+        return glm::vec4(glm::vec3(tau > 0.0 ? e * (a / tau) : e), float(a));
+    }
+    const fx::SegmentColor c = fx::emission_absorption(tf, s0, s1, length);
+    return glm::vec4(glm::vec3(c.color), float(c.alpha));
+}
+
+inline fx::Image closed_form(const Scene& s, const LinearBox& box, Path p) {
+    fx::Image img(s.width, s.height);
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            const fx::Ray ray = s.camera.pixel_ray(x + 0.5, y + 0.5, s.width, s.height);
+            double t0, t1;
+            if (!box_segment(box, s.camera, ray, t0, t1)) continue;
+            const double s0 = box.scalar(ray.origin + t0 * ray.direction), s1 = box.scalar(ray.origin + t1 * ray.direction);
+            img.at(x, y) = segment_value(p, s.scanline_model, s.tf, s0, s1, t1 - t0);
+        }
+    return img;
+}
+
+// A box of nx × ny × nz hexahedra; the layer planes along each axis at lo + (hi − lo)·f(k/n)
+// (f = identity by default: equal cells). Scalar "s" linear in space (box.scalar).
+inline fx::CellMesh box_mesh(const LinearBox& box, std::array<std::uint32_t, 3> cells,
+                             const std::function<double(int axis, double u)>& spacing = {}) {
+    fx::CellMesh mesh;
+    fx::append_curvilinear_block(mesh, "box", {cells[0] + 1, cells[1] + 1, cells[2] + 1},
+                                 [&](double u, double v, double w) {
+                                     const double f[3] = {spacing ? spacing(0, u) : u, spacing ? spacing(1, v) : v,
+                                                          spacing ? spacing(2, w) : w};
+                                     return box.lo + (box.hi - box.lo) * glm::dvec3(f[0], f[1], f[2]);
+                                 });
+    fx::set_scalar_field(mesh, "s", [&](const glm::dvec3& p) { return box.scalar(p); });
+    return mesh;
+}
+
+// ---- comparison -------------------------------------------------------------------------------
+
+struct Measured {
+    double peak = 0.0, max_delta = 0.0, mean_delta = 0.0, beyond = 0.0;
+    bool finite = true, in_unit_range = true;
+    int worst_x = -1, worst_y = -1;
+    glm::vec4 worst_actual{0.0f}, worst_expected{0.0f};
+};
+
+inline Measured measure(const fx::Image& actual, const fx::Image& expected, const Tolerance& tol) {
+    REQUIRE(actual.width == expected.width);
+    REQUIRE(actual.height == expected.height);
+    Measured m;
+    for (const glm::vec4& e : expected.pixels) m.peak = std::max({m.peak, double(e.r), double(e.g), double(e.b), double(e.a)});
+    double sum = 0.0;
+    std::size_t beyond = 0;
+    for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
+        bool ok = true;
+        double worst = 0.0;
+        for (int c = 0; c < 4; ++c) {
+            const double a = actual.pixels[i][c], e = expected.pixels[i][c];
+            if (!std::isfinite(a)) m.finite = false;
+            if (!(a >= 0.0 && a <= 1.0)) m.in_unit_range = false;
+            const double d = std::isfinite(a) ? std::abs(a - e) : INFINITY;
+            sum += std::isfinite(d) ? d : 1e30;
+            worst = std::max(worst, d);
+            if (!(d <= tol.pixel_bound(m.peak, e))) ok = false;
+        }
+        if (!(worst <= m.max_delta)) {
+            m.max_delta = worst;
+            m.worst_x = int(i % std::size_t(actual.width)), m.worst_y = int(i / std::size_t(actual.width));
+            m.worst_actual = actual.pixels[i], m.worst_expected = expected.pixels[i];
+        }
+        beyond += !ok;
+    }
+    m.mean_delta = sum / (4.0 * double(std::max<std::size_t>(actual.pixels.size(), 1)));
+    m.beyond = double(beyond) / double(std::max<std::size_t>(actual.pixels.size(), 1));
+    return m;
+}
+
+inline bool within(const Measured& m, const Tolerance& tol) {
+    return m.finite && m.beyond <= tol.beyond && m.mean_delta <= tol.mean_bound(m.peak);
+}
+
+inline void report(const std::string& name, Path p, const Measured& m) {
+    WARN(name << " [" << hard_case::name(p) << "]: peak " << m.peak << ", max delta " << m.max_delta << " ("
+              << (m.peak > 0.0 ? 100.0 * m.max_delta / m.peak : 0.0) << "% of peak) at (" << m.worst_x << ", "
+              << m.worst_y << ") actual " << m.worst_actual.r << " " << m.worst_actual.g << " " << m.worst_actual.b
+              << " " << m.worst_actual.a << " expected " << m.worst_expected.r << " " << m.worst_expected.g << " "
+              << m.worst_expected.b << " " << m.worst_expected.a << "; mean " << m.mean_delta << "; beyond "
+              << 100.0 * m.beyond << "% of pixels");
+}
+
+// Measures `actual` against `expected`, prints the figures, CHECKs the stated tolerance (and,
+// with `unit_range`, that every value lies in [0, 1]); on failure writes the PNGs.
+inline Measured check(const std::string& name, Path p, const fx::Image& actual, const fx::Image& expected,
+                      const Tolerance& tol, bool unit_range = true) {
+    const Measured m = measure(actual, expected, tol);
+    report(name, p, m);
+    const bool ok = within(m, tol) && (!unit_range || m.in_unit_range);
+    if (!ok) {
+        const std::string prefix = fx_test::write_failure_images(name + "_" + hard_case::name(p), actual, expected,
+                                                                 float(10.0 / std::max(m.peak, 1e-30)));
+        INFO(name << " [" << hard_case::name(p) << "]: images " << prefix);
+        CHECK(ok);
+    }
+    CHECK(m.finite);
+    CHECK(m.beyond <= tol.beyond);
+    CHECK(m.mean_delta <= tol.mean_bound(m.peak));
+    if (unit_range) CHECK(m.in_unit_range);
+    return m;
+}
+
+// A path that cannot meet its stated tolerance in a case (docs/accuracy.md gives the measured
+// error and why). The tolerance is not widened: for such a path the case checks what it does
+// guarantee — every value finite and in [0, 1] — and prints the measured error.
+struct Limit {
+    Path path;
+    const char* why;
+};
+
+// Renders every path in `paths` and checks each against the closed form of `box` with its
+// stated tolerance (or, for a path in `limits`, what it guarantees). The reference must show
+// something (peak > 0), or the case tests nothing.
+inline void check_closed_form(const std::string& name, const Scene& s, const LinearBox& box,
+                              const std::vector<Path>& paths, const std::vector<Limit>& limits = {}) {
+    for (Path p : paths) {
+        const fx::Image expected = closed_form(s, box, p);
+        const fx::Image actual = render(s, p);
+        const Tolerance tol = stated_tolerance(p, s.cells_on_ray);
+        INFO(name << " [" << hard_case::name(p) << "]");
+        const auto limit = std::find_if(limits.begin(), limits.end(), [p](const Limit& l) { return l.path == p; });
+        if (limit == limits.end()) {
+            const Measured m = check(name, p, actual, expected, tol);
+            REQUIRE(m.peak > 0.0);
+            continue;
+        }
+        const Measured m = measure(actual, expected, tol);
+        REQUIRE(m.peak > 0.0);
+        report(name + " (beyond its stated tolerance: " + limit->why + ")", p, m);
+        CHECK(m.finite);
+        CHECK(m.in_unit_range);
+    }
+}
+
+} // namespace hard_case

@@ -1,0 +1,126 @@
+// `cellfx bench accuracy --quick` end to end: it runs, writes its CSV, Markdown and plots, and
+// the errors it measures are finite and ordered as the paths' methods say they must be. The
+// timings are not checked (speed is the bench's to print, not a test's to judge).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_paths.hpp"
+
+namespace {
+
+struct CsvRow {
+    std::map<std::string, std::string> cells;
+    double number(const std::string& key) const {
+        const auto it = cells.find(key);
+        REQUIRE(it != cells.end());
+        return std::strtod(it->second.c_str(), nullptr);
+    }
+    const std::string& text(const std::string& key) const { return cells.at(key); }
+};
+
+std::vector<CsvRow> read_csv(const std::string& path) {
+    std::ifstream in(path);
+    REQUIRE(in);
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> header;
+    {
+        std::stringstream ss(line);
+        for (std::string item; std::getline(ss, item, ',');) header.push_back(item);
+    }
+    std::vector<CsvRow> rows;
+    while (std::getline(in, line)) {
+        std::stringstream ss(line);
+        CsvRow row;
+        std::size_t i = 0;
+        for (std::string item; std::getline(ss, item, ','); ++i) {
+            REQUIRE(i < header.size());
+            row.cells[header[i]] = item;
+        }
+        if (i + 1 == header.size()) row.cells[header[i]] = ""; // a trailing empty cell
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+bool is_png(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[8] = {};
+    in.read(magic, 8);
+    return in && std::string(magic + 1, 3) == "PNG" && std::filesystem::file_size(path) > 2000;
+}
+
+} // namespace
+
+TEST_CASE("bench accuracy --quick writes its table and plots, with errors ordered as the methods say", "[gl][bench]") {
+    const std::string out = fx_test::output_path("bench_accuracy");
+    std::filesystem::remove_all(out);
+    const std::string command = std::string("'") + CELLFX_CLI + "' bench accuracy --quick --out '" + out + "' > '" +
+                                out + ".log' 2>&1";
+    INFO(command << " (output in " << out << ".log)");
+    REQUIRE(std::system(command.c_str()) == 0);
+
+    for (const char* file : {"accuracy.png", "accuracy_1spp.png"}) {
+        INFO(file);
+        CHECK(is_png(out + "/" + file));
+    }
+    std::ifstream md(out + "/accuracy.md");
+    REQUIRE(md);
+    const std::string markdown((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+
+    const std::vector<CsvRow> rows = read_csv(out + "/accuracy.csv");
+    std::map<std::string, std::map<std::string, const CsvRow*>> by_scene; // scene → flavour → row
+    for (const CsvRow& r : rows) by_scene[r.text("scene")][r.text("flavour")] = &r;
+    REQUIRE(by_scene.size() == 6); // blunt fin, FEM duct, fog from above and inside, campfire, search light
+    for (const auto& [scene, flavours] : by_scene) {
+        INFO("scene " << scene);
+        for (const auto& [name, row] : flavours) {
+            INFO("flavour " << name);
+            for (const char* key : {"rmse", "max_abs", "psnr_db", "rmse_1spp", "frame_ms"}) {
+                INFO(key);
+                CHECK(std::isfinite(row->number(key)));
+            }
+            CHECK(row->number("rmse") > 0.0);
+            CHECK(row->number("max_abs") >= row->number("rmse"));
+            CHECK(row->number("psnr_db") == Approx(-20.0 * std::log10(row->number("rmse"))).epsilon(1e-3));
+            CHECK(markdown.find("| " + name + " |") != std::string::npos);
+        }
+        auto rmse = [&](const std::string& flavour, const char* key) {
+            const auto it = flavours.find(flavour);
+            REQUIRE(it != flavours.end());
+            return it->second->number(key);
+        };
+        const bool fog = scene.rfind("fog", 0) == 0;
+        // Every scene: the emission–absorption and maximum models; emission only where it fits
+        // (not fog). The scan-line rows are the 1-sample reference itself.
+        CHECK(flavours.count("scanline EA") == 1);
+        CHECK(flavours.count("mip") == 1);
+        CHECK(flavours.count("pcp") == (fog ? 0u : 1u));
+        CHECK(rmse("scanline EA", "rmse_1spp") == 0.0);
+        // Exact flavours sit at the floor every point-sampled renderer shares: their error
+        // against the 4×4 reference is that of the scan-line renderer at 1 sample per pixel
+        // (within 25%: what is left is their own, much smaller, error — and for a camera inside
+        // the fog the near-plane modelling difference, docs/accuracy.md).
+        const double ea_floor = rmse("scanline EA", "rmse");
+        CHECK(rmse("absorption-exact xmpvo", "rmse") <= 1.25 * ea_floor);
+        CHECK(rmse("mip", "rmse") <= 1.25 * rmse("scanline max", "rmse"));
+        if (fog) CHECK(rmse("pcp-exact fog", "rmse") <= 1.25 * ea_floor); // one colour: exact
+        else CHECK(rmse("pcp-exact", "rmse") <= 1.25 * rmse("scanline E", "rmse"));
+        // Exact flavours below their classic ones, at the pixel centres (where the aliasing
+        // both share is gone and each method's own error is left).
+        for (const char* sort : {"centroid", "mpvo", "xmpvo", "power"}) {
+            INFO("sort " << sort);
+            CHECK(rmse(std::string("absorption-exact ") + sort, "rmse_1spp") <
+                  rmse(std::string("absorption ") + sort, "rmse_1spp"));
+        }
+        if (!fog) CHECK(rmse("pcp-exact", "rmse_1spp") < rmse("pcp", "rmse_1spp"));
+    }
+}
