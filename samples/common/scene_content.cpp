@@ -31,7 +31,8 @@ fx::Camera orbit_camera(const fx::Camera& camera, double radians) {
 }
 
 SceneContent::SceneContent(const terrain::Scene& scene, const SampleOptions& options) {
-    module_.init(cellfx::Config::from_scene(scene));
+    // The first frames' size: the window's or the offscreen frame's (a later size re-simulates).
+    module_.init(cellfx::Config::from_scene(scene, options.width, options.height));
     module_.set_time(options.start_time);
 }
 
