@@ -26,6 +26,7 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
+#include "fx/image.hpp"
 
 namespace cellfx_samples {
 
@@ -108,6 +109,18 @@ struct SampleInfo {
 };
 const std::vector<SampleInfo>& sample_catalog();
 const SampleInfo& find_sample(const std::string& name); // throws fx::Error for an unknown name
+
+// Timing for `cellfx bench effects`: `frames` frames of the sample's frame loop into an offscreen
+// framebuffer (as --headless draws them; no PNGs, no overlay) in the current GL context, each
+// to glFinish. Returns per-frame wall ms and the last frame (read back) with its statistics.
+struct TimedRun {
+    std::vector<double> frame_ms, update_ms, render_ms;
+    std::size_t cells_drawn = 0;
+    std::string path; // the content's path label
+    fx::Image last_frame;
+    glm::vec3 background{0.0f};
+};
+TimedRun time_sample(const SampleInfo& info, const SampleOptions& options, int frames);
 
 // The whole program: parses argv, runs the window or the headless loop, prints errors.
 // Returns the process exit code (0 fine, 1 runtime error, 2 bad arguments).
