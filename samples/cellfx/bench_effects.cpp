@@ -18,8 +18,15 @@
 // worst error in percent of the reference's peak. Classic pcp is compared with the reference
 // clamped to its 8-bit range; the absorption paths with the emission-absorption reference.
 //
+// Then the samples (samples/<name>: fog_valley, campfire, searchlight, aurora, fem_viewer):
+// each sample's own frame loop — the code its window runs, drawing into an offscreen RGBA8 +
+// depth framebuffer (no stats text) — per render path it offers, frames dt = 1/30 s apart, each
+// to glFinish: median ms per frame, the update (simulation) and cellfx render (CPU) parts. The
+// last frame must differ from the background (the sample tests compare the pictures).
+//
 // Options: --scenes a,b (all), --frames N (8, after 2 warm-up frames), --size WxH (the scenes'),
-//          --paths a,b (all), --skip-verify.
+//          --paths a,b (all), --skip-verify, --samples a,b (all five), --no-samples,
+//          --only-samples (skip the scene rows).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,6 +42,7 @@
 #include "fx/headless_context.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "options.hpp"
+#include "sample.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
 
@@ -158,11 +166,45 @@ void print_row(const Row& r) {
         std::printf(" %8s %8s\n", "-", "-");
 }
 
+
+// The samples' frame loops (see the header comment), one row per sample and path.
+void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& paths, int frames, int warmup, double dt) {
+    std::vector<std::string> names = parsed.has("samples") ? split(parsed.get("samples")) : std::vector<std::string>();
+    if (names.empty())
+        for (const cellfx_samples::SampleInfo& s : cellfx_samples::sample_catalog()) names.push_back(s.usage.name);
+    std::printf("\n  samples: each sample's frame loop (the window's code, offscreen RGBA8 + depth, no stats text), to glFinish\n");
+    std::printf("  %-12s %-17s %9s %10s %8s %10s %10s\n", "sample", "path", "size", "ms/frame", "fps", "update ms", "cellfx ms");
+    for (const std::string& name : names) {
+        const cellfx_samples::SampleInfo& info = cellfx_samples::find_sample(name);
+        for (fx::RenderPath path : paths) {
+            cellfx_samples::SampleOptions options;
+            options.path = path;
+            options.dt = dt;
+            if (parsed.has("size")) parse_size(parsed.get("size"), options.width, options.height);
+            const cellfx_samples::TimedRun run = cellfx_samples::time_sample(info, options, warmup + frames);
+            const auto timed = [&](const std::vector<double>& v) { return median(std::vector<double>(v.begin() + warmup, v.end())); };
+            const fx::Image bg(run.last_frame.width, run.last_frame.height, glm::vec4(run.background, 1.0f));
+            double changed = 0.0;
+            for (std::size_t i = 0; i < bg.pixels.size(); ++i)
+                changed += glm::length(glm::vec3(run.last_frame.pixels[i]) - glm::vec3(bg.pixels[i])) > 4.0f / 255.0f ? 1.0 : 0.0;
+            if (!(changed > 0.01 * double(bg.pixels.size())))
+                throw fx::Error("bench effects: sample " + name + " [" + run.path + "]: the frame shows nothing but the background");
+            const double ms = timed(run.frame_ms);
+            const std::string size = std::to_string(run.last_frame.width) + "x" + std::to_string(run.last_frame.height);
+            std::printf("  %-12s %-17s %9s %10.2f %8.1f %10.2f %10.2f\n", name.c_str(), run.path.c_str(), size.c_str(), ms,
+                        1000.0 / ms, timed(run.update_ms), timed(run.render_ms));
+            std::fflush(stdout);
+        }
+    }
+    std::printf("  ms/frame: wall time of one frame of the loop (update, clear, props, depth copy, cellfx) to glFinish;\n"
+                "  update: the simulation part; cellfx: the CPU time of cellfx's render call (GPU work is asynchronous).\n");
+}
+
 } // namespace
 
 int bench_effects(const std::vector<std::string>& args) {
-    const ParsedArgs parsed = parse_args(args, {"skip-verify"});
-    require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify"});
+    const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples"});
+    require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
     const int frames = parse_int(parsed.get("frames", "8"), "--frames");
     if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
@@ -193,6 +235,7 @@ int bench_effects(const std::vector<std::string>& args) {
                 "ms/frame", "fps", "gpu ms", "update", "upload", "surface", "effects", "composite", "mean %", "max %");
     std::vector<Row> rows;
     std::map<std::string, std::vector<terrain::EffectFrameStats>> last_effects;
+    if (parsed.has("only-samples")) scenes.clear();
     for (const std::string& name : scenes) {
         terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + name + ".json");
         if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
@@ -296,7 +339,7 @@ int bench_effects(const std::vector<std::string>& args) {
     }
     // What a scalar-only update saves: the campfire's mesh re-uploaded whole (set_mesh: projector
     // geometry, planes, buffers) against its scalars alone (set_scalars: the point buffer).
-    {
+    if (!parsed.has("only-samples")) {
         fx::Campfire fire;
         fx::EffectView view; // the default camera: the fire's mesh does not depend on it
         fire.update(view);
@@ -314,6 +357,7 @@ int bench_effects(const std::vector<std::string>& args) {
         std::printf("\n  upload of the campfire's %zu cells after its noise moved (CPU time of the call, median of 9):\n"
                     "  set_mesh %.3f ms, set_scalars %.3f ms\n", fire.mesh().cell_count(), median(mesh_ms), median(scalar_ms));
     }
+    if (!parsed.has("no-samples")) bench_samples(parsed, paths, frames, kWarmup, kDt);
     return 0;
 }
 

@@ -1,0 +1,19 @@
+// The campfire sample: content/scenes/campfire.json (animated 4-D noise on a hexahedral grid,
+// fire transfer function, emission only, stopped by the ground), the camera on the scene's
+// path around the fire.
+#include "scene_content.hpp"
+
+namespace cellfx_samples {
+
+SampleInfo campfire_sample() {
+    SampleInfo info;
+    info.usage.name = "campfire";
+    info.usage.summary = "A campfire of animated 4-D noise on rough ground, the camera circling it (content/scenes/campfire.json).";
+    info.animated = true;
+    info.make = [](const SampleOptions& options) -> std::unique_ptr<SampleContent> {
+        return std::make_unique<SceneContent>(terrain::load_scene(scene_path("campfire")), options);
+    };
+    return info;
+}
+
+} // namespace cellfx_samples
