@@ -23,6 +23,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
@@ -37,14 +38,7 @@
 namespace cellfx_cli {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Scene {
     std::string name;

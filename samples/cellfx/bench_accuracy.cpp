@@ -49,6 +49,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
@@ -69,16 +70,6 @@
 
 namespace cellfx_cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 constexpr int kSupersample = 4; // the reference: 4×4 samples per pixel, box-filtered
 

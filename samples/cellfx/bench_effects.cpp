@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/campfire.hpp"
 #include "fx/cell_renderer.hpp"
@@ -50,13 +51,6 @@ namespace cellfx_cli {
 namespace {
 
 const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley", "aurora"};
-
-double median(std::vector<double> v) {
-    if (v.empty()) return -1.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 std::vector<std::string> split(const std::string& list) {
     std::vector<std::string> out;
@@ -165,7 +159,6 @@ void print_row(const Row& r) {
     else
         std::printf(" %8s %8s\n", "-", "-");
 }
-
 
 // The samples' frame loops (see the header comment), one row per sample and path.
 void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& paths, int frames, int warmup, double dt) {

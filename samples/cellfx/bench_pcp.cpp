@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
@@ -30,12 +31,6 @@
 
 namespace cellfx_cli {
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // An n³ grid of hexahedra on the unit cube with a smooth field.
 fx::CellMesh hex_grid(int n) {

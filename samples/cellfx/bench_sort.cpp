@@ -21,6 +21,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/error.hpp"
 #include "fx/face_topology.hpp"
@@ -38,12 +39,6 @@ double thread_cpu_seconds() {
     timespec t;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 void shrink(fx::CellMesh& mesh) {
