@@ -46,21 +46,6 @@ void apply_start_options(SampleContent& content, const SampleOptions& options) {
     }
 }
 
-// The window's formats without a window: RGBA8 colour, 24-bit depth + 8-bit stencil.
-struct Offscreen {
-    fx::gl::Framebuffer fb = fx::gl::Framebuffer::create();
-    fx::gl::Renderbuffer color = fx::gl::Renderbuffer::create(), depth = fx::gl::Renderbuffer::create();
-    Offscreen(int w, int h) {
-        glNamedRenderbufferStorage(color.id(), GL_RGBA8, w, h);
-        glNamedRenderbufferStorage(depth.id(), GL_DEPTH24_STENCIL8, w, h);
-        glNamedFramebufferRenderbuffer(fb.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color.id());
-        glNamedFramebufferRenderbuffer(fb.id(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth.id());
-        if (glCheckNamedFramebufferStatus(fb.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw fx::Error("headless: the offscreen framebuffer is incomplete");
-    }
-    GLuint id() const { return fb.id(); }
-};
-
 // --headless: an EGL context and an offscreen framebuffer with the window's formats.
 int run_headless(const SampleInfo& info, const SampleOptions& options) {
     const fx::HeadlessContext context;
@@ -69,7 +54,7 @@ int run_headless(const SampleInfo& info, const SampleOptions& options) {
     const int w = options.width > 0 ? options.width : content->default_width();
     const int h = options.height > 0 ? options.height : content->default_height();
     prepare_out(options.out);
-    const Offscreen fb(w, h);
+    const OffscreenFramebuffer fb(w, h);
     FrameLoop loop(*content, options, info.usage.name);
     std::printf("%s: headless, %dx%d, %d frames, dt %g s, gl: %s\n", info.usage.name.c_str(), w, h, options.frames,
                 options.dt, context.description().c_str());
@@ -206,7 +191,7 @@ TimedRun time_sample(const SampleInfo& info, const SampleOptions& options, int f
     const int h = o.height > 0 ? o.height : content->default_height();
     TimedRun run;
     {
-        const Offscreen fb(w, h);
+        const OffscreenFramebuffer fb(w, h);
         FrameLoop loop(*content, o, info.usage.name);
         for (int f = 0; f < frames; ++f) {
             const auto t0 = std::chrono::steady_clock::now();

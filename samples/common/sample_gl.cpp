@@ -1,4 +1,4 @@
-// The samples' own GL drawing: the frame-stats text (stb_easy_font quads) and shaded boxes.
+// The samples' own GL drawing: the offscreen framebuffer, the frame-stats text (stb_easy_font quads) and shaded boxes.
 #include "sample_gl.hpp"
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "fx/error.hpp"
 #include "gl/state_guard.hpp"
 
 #pragma GCC diagnostic push
@@ -25,6 +26,16 @@ const EmbeddedShader* sample_embedded_shaders(std::size_t& count);
 } // namespace fx::gl
 
 namespace cellfx_samples {
+
+OffscreenFramebuffer::OffscreenFramebuffer(int width, int height)
+    : fb_(fx::gl::Framebuffer::create()), color_(fx::gl::Renderbuffer::create()), depth_(fx::gl::Renderbuffer::create()) {
+    glNamedRenderbufferStorage(color_.id(), GL_RGBA8, width, height);
+    glNamedRenderbufferStorage(depth_.id(), GL_DEPTH24_STENCIL8, width, height);
+    glNamedFramebufferRenderbuffer(fb_.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_.id());
+    glNamedFramebufferRenderbuffer(fb_.id(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_.id());
+    if (glCheckNamedFramebufferStatus(fb_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw fx::Error("headless: the offscreen framebuffer is incomplete");
+}
 
 const fx::gl::ShaderLibrary& sample_shaders() {
     static const fx::gl::ShaderLibrary library = [] {

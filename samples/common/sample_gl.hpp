@@ -1,7 +1,7 @@
-// cellfx samples — GL pieces the samples draw themselves (not cellfx): the frame-stats text, the
-// boxes a sample puts in its world, and the shader library of their embedded shaders
-// (shaders/sample_*.{vert,frag}). Each draw saves and restores the GL state it changes
-// (fx::gl::StateGuard), so they can sit anywhere in a frame.
+// cellfx samples — GL pieces the samples draw themselves (not cellfx): a window-like offscreen
+// framebuffer, the frame-stats text, the boxes a sample puts in its world, and the shader
+// library of their embedded shaders (shaders/sample_*.{vert,frag}). Each draw saves and
+// restores the GL state it changes (fx::gl::StateGuard), so they can sit anywhere in a frame.
 #pragma once
 
 #include <string>
@@ -20,6 +20,18 @@ const fx::gl::ShaderLibrary& sample_shaders();
 
 // Lines of text at the top left of the bound draw framebuffer's viewport, on a translucent
 // panel, with stb_easy_font (Debian's libstb-dev): about 6 × 12 pixels per character at scale 1.
+// The window's formats without a window (--headless, the bench, tests): an RGBA8 colour and a
+// DEPTH24_STENCIL8 renderbuffer. Throws fx::Error if the framebuffer is incomplete.
+class OffscreenFramebuffer {
+public:
+    OffscreenFramebuffer(int width, int height);
+    unsigned id() const { return fb_.id(); }
+
+private:
+    fx::gl::Framebuffer fb_;
+    fx::gl::Renderbuffer color_, depth_;
+};
+
 class TextOverlay {
 public:
     TextOverlay(); // context current: builds the program and buffers
