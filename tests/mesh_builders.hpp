@@ -5,6 +5,7 @@
 #include <random>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/tetrahedralize.hpp"
 
 namespace fx_test {
 
@@ -58,6 +59,27 @@ inline fx::CellMesh mixed_box(int n) {
             }
         } else {
             mesh.add_cell(fx::CellType::Hexahedron, h);
+        }
+    }
+    return mesh;
+}
+
+// mixed_box(n) with every fourth hexahedron replaced by its consistent tetrahedra: all four
+// cell types and tetrahedra sharing faces with them. No scalar field.
+inline fx::CellMesh mixed_box_with_tets(int n) {
+    const fx::CellMesh base = mixed_box(n);
+    fx::CellMesh mesh;
+    mesh.points = base.points;
+    mesh.begin_block("mixed");
+    int hexes = 0;
+    for (std::size_t c = 0; c < base.cell_count(); ++c) {
+        const fx::CellType t = base.cell_types[c];
+        if (t == fx::CellType::Hexahedron && hexes++ % 4 == 0) {
+            std::uint32_t tets[fx::kMaxCellTetrahedra][4];
+            const int k = fx::subdivide_cell(t, base.cell_vertices(c), tets);
+            for (int i = 0; i < k; ++i) mesh.add_cell(fx::CellType::Tetra, tets[i]);
+        } else {
+            mesh.add_cell(t, base.cell_vertices(c));
         }
     }
     return mesh;

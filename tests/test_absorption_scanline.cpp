@@ -193,21 +193,7 @@ TEST_CASE("absorption vs scan-line: a box of hexahedra, hard views", "[gl][absor
 
 TEST_CASE("absorption vs scan-line: mixed cells (tetra, pyramid, wedge, hexahedron)", "[gl][absorption]") {
     // A conforming box of all four types, every fourth hexahedron cut into its tetrahedra.
-    const fx::CellMesh base = fx_test::mixed_box(4);
-    fx::CellMesh mesh;
-    mesh.points = base.points;
-    mesh.begin_block("mixed");
-    int hexes = 0;
-    for (std::size_t c = 0; c < base.cell_count(); ++c) {
-        const fx::CellType t = base.cell_types[c];
-        if (t == fx::CellType::Hexahedron && hexes++ % 4 == 0) {
-            std::uint32_t tets[fx::kMaxCellTetrahedra][4];
-            const int k = fx::subdivide_cell(t, base.cell_vertices(c), tets);
-            for (int i = 0; i < k; ++i) mesh.add_cell(fx::CellType::Tetra, tets[i]);
-        } else {
-            mesh.add_cell(t, base.cell_vertices(c));
-        }
-    }
+    fx::CellMesh mesh = fx_test::mixed_box_with_tets(4);
     fx::set_scalar_field(mesh, "s", [](const glm::dvec3& p) { return 0.5 + 0.5 * std::sin(3.0 * p.x + 2.0 * p.y) * p.z; });
     int counts[15] = {};
     for (fx::CellType t : mesh.cell_types) ++counts[int(t)];

@@ -5,47 +5,19 @@
 // every piece of the game's GL state must be as it was.
 #include <catch2/catch.hpp>
 
-#include <cstdio>
 #include <vector>
 
 #include <epoxy/gl.h>
-#include <GLFW/glfw3.h>
 
 #include "cellfx/cellfx.hpp"
+#include "glfw_test_window.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
-
-namespace {
-
-struct Window {
-    GLFWwindow* handle = nullptr;
-    Window(int width, int height) {
-        glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
-        if (!glfwInit()) FAIL("glfwInit failed: no X display? (ctest runs this under xvfb-run)");
-        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-        glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
-        handle = glfwCreateWindow(width, height, "cellfx embedding test", nullptr, nullptr);
-        if (!handle) {
-            glfwTerminate();
-            FAIL("glfwCreateWindow failed for an OpenGL 4.5 core context");
-        }
-        glfwMakeContextCurrent(handle);
-    }
-    ~Window() {
-        glfwDestroyWindow(handle);
-        glfwTerminate();
-    }
-};
-
-} // namespace
 
 TEST_CASE("cellfx::Module draws into a GLFW window's frame and leaves the game's GL state as it was", "[window]") {
     constexpr int kWidth = 96, kHeight = 72;
     const fx::Viewport viewport{16, 8, 64, 56}; // not the whole window: offsets must be honoured
-    Window window(kWidth, kHeight);
+    const fx_test::GlfwWindow window(kWidth, kHeight, "cellfx embedding test");
     const glm::vec3 sky(0.05f, 0.07f, 0.12f);
 
     cellfx::Module fx;

@@ -9,42 +9,18 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
 
 #include <epoxy/gl.h>
-#include <GLFW/glfw3.h>
 
 #include "fx/cell_renderer.hpp"
 #include "fx/image.hpp"
 #include "gl_fixture.hpp"
+#include "glfw_test_window.hpp"
 #include "mesh_builders.hpp"
 
 namespace {
-
-struct Window {
-    GLFWwindow* handle = nullptr;
-    Window(int width, int height) {
-        glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
-        if (!glfwInit()) FAIL("glfwInit failed: no X display? (ctest runs this under xvfb-run)");
-        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-        glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
-        handle = glfwCreateWindow(width, height, "cellfx host window test", nullptr, nullptr);
-        if (!handle) {
-            glfwTerminate();
-            FAIL("glfwCreateWindow failed for an OpenGL 4.5 core context");
-        }
-        glfwMakeContextCurrent(handle);
-    }
-    ~Window() {
-        glfwDestroyWindow(handle);
-        glfwTerminate();
-    }
-};
 
 // The host state a game typically leaves set between its own draws, read back as numbers.
 std::vector<double> host_state() {
@@ -86,7 +62,7 @@ std::vector<double> host_state() {
 TEST_CASE("renders into a GLFW window's framebuffer and leaves the host's GL state as it was", "[window]") {
     constexpr int kWidth = 96, kHeight = 72;
     const fx::Viewport viewport{16, 8, 64, 56}; // not the whole window: offsets must be honoured
-    Window window(kWidth, kHeight);
+    const fx_test::GlfwWindow window(kWidth, kHeight, "cellfx host window test");
 
     const glm::dvec3 lo(0.0), hi(1.0);
     fx::CellMesh mesh = fx_test::hex_box(3, 3, 3, lo, hi);

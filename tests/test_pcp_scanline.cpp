@@ -181,23 +181,9 @@ fx::CellMesh campfire(int n) {
     return mesh;
 }
 
-// mixed_box() with every fourth hexahedron replaced by its (consistent) tetrahedra.
+// mixed_box_with_tets() with a smooth field.
 fx::CellMesh mixed_with_tets(int n) {
-    const fx::CellMesh base = fx_test::mixed_box(n);
-    fx::CellMesh mesh;
-    mesh.points = base.points;
-    mesh.begin_block("mixed");
-    int hexes = 0;
-    for (std::size_t c = 0; c < base.cell_count(); ++c) {
-        const fx::CellType t = base.cell_types[c];
-        if (t == fx::CellType::Hexahedron && hexes++ % 4 == 0) {
-            std::uint32_t tets[fx::kMaxCellTetrahedra][4];
-            const int k = fx::subdivide_cell(t, base.cell_vertices(c), tets);
-            for (int i = 0; i < k; ++i) mesh.add_cell(fx::CellType::Tetra, tets[i]);
-        } else {
-            mesh.add_cell(t, base.cell_vertices(c));
-        }
-    }
+    fx::CellMesh mesh = fx_test::mixed_box_with_tets(n);
     fx::ScalarField f{"s", {}};
     for (const glm::dvec3& p : mesh.points) f.values.push_back(float(0.5 + 0.5 * std::sin(3.0 * p.x + 2.0 * p.y) * p.z));
     mesh.scalars.push_back(std::move(f));
