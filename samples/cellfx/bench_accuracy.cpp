@@ -725,17 +725,12 @@ int bench_accuracy(const std::vector<std::string>& args) {
     o.blunt_fin = parsed.get("blunt-fin", std::string(CELLFX_SOURCE_DIR) + "/content/meshes/blunt_fin");
     o.command = "cellfx bench accuracy";
     for (const std::string& a : args) o.command += " " + a;
-    std::vector<std::string> wanted;
-    {
-        std::stringstream ss(o.scenes);
-        for (std::string item; std::getline(ss, item, ',');) {
-            if (item != "blunt-fin" && item != "fem" && item != "fog-above" && item != "fog-inside" &&
-                item != "campfire" && item != "searchlight")
-                throw fx::Error("bench accuracy: --scenes: unknown scene '" + item +
-                                "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight)");
-            wanted.push_back(item);
-        }
-    }
+    const std::vector<std::string> wanted = split_list(o.scenes);
+    for (const std::string& item : wanted)
+        if (item != "blunt-fin" && item != "fem" && item != "fog-above" && item != "fog-inside" && item != "campfire" &&
+            item != "searchlight")
+            throw fx::Error("bench accuracy: --scenes: unknown scene '" + item +
+                            "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight)");
     std::filesystem::create_directories(o.out);
 
     const fx::HeadlessContext context;

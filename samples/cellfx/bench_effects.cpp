@@ -52,19 +52,6 @@ namespace {
 
 const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley", "aurora"};
 
-std::vector<std::string> split(const std::string& list) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (start <= list.size()) {
-        const std::size_t comma = list.find(',', start);
-        const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (!item.empty()) out.push_back(item);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return out;
-}
-
 // Frame f of the timed run: 1/30 s apart along the camera path, or a slow sideways move (1% of
 // the eye's distance to the target per frame) when the scene has none.
 fx::Camera camera_at(const terrain::Scene& scene, int frame, double dt) {
@@ -162,7 +149,7 @@ void print_row(const Row& r) {
 
 // The samples' frame loops (see the header comment), one row per sample and path.
 void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& paths, int frames, int warmup, double dt) {
-    std::vector<std::string> names = parsed.has("samples") ? split(parsed.get("samples")) : std::vector<std::string>();
+    std::vector<std::string> names = parsed.has("samples") ? split_list(parsed.get("samples")) : std::vector<std::string>();
     if (names.empty())
         for (const cellfx_samples::SampleInfo& s : cellfx_samples::sample_catalog()) names.push_back(s.usage.name);
     std::printf("\n  samples: each sample's frame loop (the window's code, offscreen RGBA8 + depth, no stats text), to glFinish\n");
@@ -201,11 +188,11 @@ int bench_effects(const std::vector<std::string>& args) {
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
     const int frames = parse_int(parsed.get("frames", "8"), "--frames");
     if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
-    std::vector<std::string> scenes = parsed.has("scenes") ? split(parsed.get("scenes")) : std::vector<std::string>();
+    std::vector<std::string> scenes = parsed.has("scenes") ? split_list(parsed.get("scenes")) : std::vector<std::string>();
     if (scenes.empty()) scenes.assign(std::begin(kScenes), std::end(kScenes));
     std::vector<fx::RenderPath> paths;
     if (parsed.has("paths")) {
-        for (const std::string& name : split(parsed.get("paths"))) {
+        for (const std::string& name : split_list(parsed.get("paths"))) {
             fx::RenderPath p;
             if (!fx::parse_render_path(name, p)) throw fx::Error("bench effects: --paths: unknown render path '" + name + "'");
             paths.push_back(p);

@@ -23,6 +23,8 @@ void require_known(const ParsedArgs& parsed, const std::vector<std::string>& kno
 double parse_double(const std::string& text, const std::string& what);
 int parse_int(const std::string& text, const std::string& what);
 void parse_size(const std::string& text, int& width, int& height); // "WxH"
+// A comma-separated list ("fire,beam"), empty items dropped.
+std::vector<std::string> split_list(const std::string& list);
 glm::dvec3 parse_vec3(const std::string& text, const std::string& what);
 
 } // namespace cellfx_cli

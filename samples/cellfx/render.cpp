@@ -52,20 +52,6 @@ constexpr const char* kUsage =
     "  --size WxH         override the scene's image size\n"
     "  --pixel-error PX   override the LOD's screen-space error bound";
 
-// Comma-separated names ("fire,beam").
-std::vector<std::string> split_names(const std::string& list) {
-    std::vector<std::string> names;
-    std::size_t start = 0;
-    while (start <= list.size()) {
-        const std::size_t comma = list.find(',', start);
-        const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (!item.empty()) names.push_back(item);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return names;
-}
-
 // `cellfx render SCENE.json`: a scene (terrain/scene.hpp: terrain, fog, aurora, effects) in a
 // headless context, through the same SceneRenderer a game uses.
 int render_scene_file(const ParsedArgs& parsed) {
@@ -94,9 +80,9 @@ int render_scene_file(const ParsedArgs& parsed) {
         if (renderer.effect_names().empty()) throw fx::Error("--path: the scene has no effects to render");
         for (const std::string& name : renderer.effect_names()) renderer.set_path(name, path);
     }
-    for (const std::string& name : split_names(parsed.get("disable"))) renderer.set_enabled(name, false);
+    for (const std::string& name : split_list(parsed.get("disable"))) renderer.set_enabled(name, false);
     if (parsed.has("only")) {
-        const std::vector<std::string> only = split_names(parsed.get("only"));
+        const std::vector<std::string> only = split_list(parsed.get("only"));
         for (const std::string& name : only) renderer.enabled(name); // unknown names are errors
         for (const std::string& name : renderer.effect_names())
             renderer.set_enabled(name, std::find(only.begin(), only.end(), name) != only.end());
