@@ -34,6 +34,7 @@ vec3 triangle_barycentric(uvec3 v, vec3 q) { return barycentric(points[v.x].xyz,
 struct CellSegment {
     float s_in, s_out; // scalar where the segment starts and ends
     float length;      // along the ray, ≥ 0
+    float t_in;        // ray parameter where it starts (t_in + length: where it ends)
 };
 
 // The segment of `ray` from its entry into the cell to (t_exit, s_exit), where it leaves.
@@ -97,5 +98,6 @@ CellSegment cell_segment(Ray ray, float t_exit, float s_exit) {
     segment.s_in = s_in;
     segment.s_out = s_exit;
     segment.length = max(t_exit - t_in, 0.0);
+    segment.t_in = t_in;
     return segment;
 }

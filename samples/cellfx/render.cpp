@@ -18,6 +18,7 @@
 #include "fx/transfer_function.hpp"
 #include "options.hpp"
 #include "terrain/scene.hpp"
+#include "terrain/scene_reference.hpp"
 #include "terrain/scene_renderer.hpp"
 
 namespace cellfx_cli {
@@ -44,7 +45,10 @@ constexpr const char* kUsage =
     "  --threads N        scan-line worker threads (default: all cores)\n"
     "\n"
     "usage: cellfx render SCENE.json --out FILE.png|FILE.pfm [options]   (scenes: docs/terrain.md, docs/effects.md)\n"
-    "  --path NAME        render every effect (fog, aurora, campfire, ...) with this GPU path\n"
+    "  --path NAME        render every effect (fog, aurora, campfire, ...) with this GPU path, or\n"
+    "                     scanline: the scene's volumes on the CPU, exactly, as intersecting grids (the\n"
+    "                     reference; each effect keeps its own path's optical model; no terrain surface)\n"
+    "  --threads N        scanline: worker threads (default: all cores)\n"
     "  --time T           scene time in seconds (animation, camera path; default 0)\n"
     "  --camera SPEC      override the scene's camera or camera path (as above)\n"
     "  --disable A,B      switch these effects off; --only A,B switches all others off\n"
@@ -55,7 +59,7 @@ constexpr const char* kUsage =
 // `cellfx render SCENE.json`: a scene (terrain/scene.hpp: terrain, fog, aurora, effects) in a
 // headless context, through the same SceneRenderer a game uses.
 int render_scene_file(const ParsedArgs& parsed) {
-    require_known(parsed, {"path", "camera", "size", "pixel-error", "out", "time", "disable", "only", "no-terrain"});
+    require_known(parsed, {"path", "camera", "size", "pixel-error", "out", "time", "disable", "only", "no-terrain", "threads"});
     if (parsed.positional.size() != 1) throw fx::Error("expected one SCENE.json");
     const std::string out = parsed.get("out");
     if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
@@ -73,7 +77,8 @@ int render_scene_file(const ParsedArgs& parsed) {
     }
     if (parsed.has("no-terrain")) scene.draw_terrain = false;
     terrain::SceneRenderer renderer(scene);
-    if (parsed.has("path")) {
+    const bool reference = parsed.get("path") == "scanline";
+    if (parsed.has("path") && !reference) {
         fx::RenderPath path;
         if (!fx::parse_render_path(parsed.get("path"), path))
             throw fx::Error("--path: unknown render path '" + parsed.get("path") + "'");
@@ -88,6 +93,24 @@ int render_scene_file(const ParsedArgs& parsed) {
             renderer.set_enabled(name, std::find(only.begin(), only.end(), name) != only.end());
     }
     renderer.set_time(time);
+    if (reference) { // the scene's volumes, exactly, as intersecting grids (terrain not drawn)
+        renderer.update(0.0, camera, scene.width, scene.height);
+        const auto t1 = std::chrono::steady_clock::now();
+        fx::Image image = terrain::render_scene_reference(renderer, camera, scene.width, scene.height,
+                                                          parsed.has("threads") ? unsigned(parse_int(parsed.get("threads"), "--threads")) : 0u);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+        fx::composite_over(image, glm::vec3(scene.background));
+        fx::write_image(image, out);
+        std::printf("wrote %s (%dx%d, t = %g s, scan-line reference of the volumes; no terrain surface)\n", out.c_str(),
+                    scene.width, scene.height, time);
+        std::printf("  %-22s %10.2f ms\n", "load scene", load_ms);
+        std::printf("  %-22s %10.2f ms\n", "scan-line frame", ms);
+        for (const terrain::SceneRenderer::DrawnVolume& v : renderer.drawn_volumes())
+            std::printf("  %-10s %-16s %8zu cells%s\n", v.name.c_str(), fx::render_path_name(v.path), v.effect->mesh().cell_count(),
+                        v.in_medium ? (v.medium.absorbs ? ", one medium, absorbing" : ", one medium, emission only")
+                                    : v.path == fx::RenderPath::Mip ? ", maximum (added)" : ", emission (added)");
+        return 0;
+    }
     renderer.set_timing(true);
     terrain::FrameStats stats;
     const fx::Image image = renderer.render_to_image(camera, scene.width, scene.height, &stats);

@@ -72,6 +72,9 @@ public:
     // The temperature formula at one point and time, without the grid (for tests and tools).
     double temperature_at(const glm::dvec3& local, double time) const;
 
+    // Its glow: a point light at 35% of its height, core radius base_radius, reaching 6 × height.
+    MediumLight medium_light() const override;
+
 private:
     EffectChanges simulate(const EffectView& view) override;
     Bounds local_bounds() const override;

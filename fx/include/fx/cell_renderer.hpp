@@ -158,6 +158,7 @@ public:
     std::size_t gpu_bytes() const; // mesh buffers + tables
 
 private:
+    friend struct ProjectorAccess; // passes built on this renderer's mesh (fx/src/projector/projector_access.hpp)
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

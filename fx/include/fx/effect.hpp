@@ -35,6 +35,7 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
+#include "fx/medium.hpp"
 
 namespace fx {
 
@@ -77,6 +78,11 @@ public:
     // are mapped onto it once, so colours do not shift as the frame's scalars vary.
     virtual ScalarRange scalar_range() const = 0;
     const std::string& scalar_name() const { return scalar_name_; }
+
+    // The light the effect sheds on the absorbing media around it (fx/medium.hpp), in its local
+    // frame with colour 1 and phase g 0 — a search light's or laser's beam (its cells, its
+    // falloff scalar), a campfire's glow (a point light); Kind::None for the others.
+    virtual MediumLight medium_light() const { return {}; }
 
     // Brings mesh() up to date for `view` (see the header comment). Throws fx::Error for a
     // non-finite time or camera, or parameters the effect cannot build.

@@ -59,6 +59,9 @@ public:
     void set_params(const LaserConeParams& params);
     void set_pose(const glm::dvec3& position, const glm::dvec3& direction);
 
+    // Its beam, like a search light's (fx/search_light.hpp).
+    MediumLight medium_light() const override;
+
 private:
     bool dusty() const { return params_.dust_amount > 0.0; }
     EffectChanges simulate(const EffectView& view) override;

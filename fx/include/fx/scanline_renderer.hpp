@@ -81,6 +81,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
+#include "fx/medium.hpp"
 #include "fx/transfer_function.hpp"
 
 namespace fx {
@@ -102,6 +103,12 @@ struct ScanlineOptions {
     // Consecutive scan lines a worker takes from the shared counter at once. 0: chunks of a
     // share of the work left (estimated from the Y-bucket counts), large first, shrinking.
     int lines_per_task = 0;
+    // Intersecting grids of different media (a scene's volumes): one fx::MediumVolume per block,
+    // in block order. Each grid is then integrated with its own transfer function (in its own
+    // scalar units; render()'s `tf` is not used), absorbing or emitting only, lights scattering
+    // in the absorbing ones, every span through Medium::integrate_span. EmissionAbsorption
+    // model only. Not owned; must outlive render().
+    const Medium* medium = nullptr;
 };
 
 // Bytes in use during one frame, by the components of §4.3.

@@ -73,6 +73,10 @@ public:
     // The beam axis in the parent's frame at `time` (the sweep applied), unit length.
     glm::dvec3 direction_at(double time) const;
 
+    // Its beam: light where its cells are, strength intensity/params().intensity, the rays
+    // diverging from the cone's apex behind the lens.
+    MediumLight medium_light() const override;
+
 private:
     EffectChanges simulate(const EffectView& view) override;
     Bounds local_bounds() const override;

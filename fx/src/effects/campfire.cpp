@@ -85,6 +85,15 @@ void Campfire::set_params(const CampfireParams& params) {
 
 glm::dmat4 Campfire::pose_at(double) const { return glm::translate(glm::dmat4(1.0), params_.position); }
 
+MediumLight Campfire::medium_light() const {
+    MediumLight light;
+    light.kind = MediumLight::Kind::Point;
+    light.origin = glm::dvec3(0.0, 0.0, 0.35 * params_.height);
+    light.core_radius = params_.base_radius;
+    light.radius = 6.0 * params_.height;
+    return light;
+}
+
 Bounds Campfire::local_bounds() const {
     const double r = params_.base_radius;
     return {glm::dvec3(-r, -r, 0.0), glm::dvec3(r, r, params_.height)};

@@ -12,6 +12,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "absorption/absorption_pass.hpp"
+#include "projector/projector_access.hpp"
 #include "fx/error.hpp"
 #include "fx/footprint_batches.hpp"
 #include "fx/polyhedron_projector.hpp"
@@ -106,6 +107,9 @@ struct CellRenderer::Impl {
     void upload_tables(const TransferFunction& tf);
     void set_scene_depth_uniforms(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options) const;
     void set_view_uniforms(const Camera& camera, const Viewport& viewport) const;
+    void set_view_uniforms_on(GLuint program, const Camera& camera, const Viewport& viewport) const;
+    void set_scene_depth_uniforms_on(GLuint program, const Camera& camera, const Viewport& viewport,
+                                     unsigned scene_depth) const;
     bool mesh_crosses_near_plane(const ProjectorView& view) const;
     void upload_frame();
     void append_cap_vertices(std::size_t polygon, std::vector<glm::uvec4>& out) const;
@@ -243,35 +247,57 @@ void CellRenderer::Impl::upload_tables(const TransferFunction& tf) {
 }
 
 void CellRenderer::Impl::set_view_uniforms(const Camera& camera, const Viewport& viewport) const {
+    for (const gl::Program* p : {&exact, &classic, &mip}) set_view_uniforms_on(p->id(), camera, viewport);
+    FX_GL_CHECK("view uniforms");
+}
+
+void CellRenderer::Impl::set_view_uniforms_on(GLuint program, const Camera& camera, const Viewport& viewport) const {
     const ProjectorView view = make_projector_view(geometry, camera);
     const double aspect = double(viewport.width) / double(viewport.height);
     const glm::mat4 vp(camera.projection_matrix(aspect) * view.view);
     const glm::vec3 eye(view.eye), forward(view.forward);
     const double span = s_hi - s_lo;
     const glm::vec4 table(float(s_lo), float(s_hi), float(kTableSize), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f);
-    for (const gl::Program* p : {&exact, &classic, &mip}) {
-        glProgramUniformMatrix4fv(p->id(), kViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
-        glProgramUniform3fv(p->id(), kEye, 1, glm::value_ptr(eye));
-        glProgramUniform3fv(p->id(), kForward, 1, glm::value_ptr(forward));
-        glProgramUniform1f(p->id(), kNear, float(view.near_distance));
-        glProgramUniform1i(p->id(), kOrthographic, view.orthographic ? 1 : 0);
-        glProgramUniform4fv(p->id(), kTable, 1, glm::value_ptr(table));
-    }
-    FX_GL_CHECK("view uniforms");
+    glProgramUniformMatrix4fv(program, kViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
+    glProgramUniform3fv(program, kEye, 1, glm::value_ptr(eye));
+    glProgramUniform3fv(program, kForward, 1, glm::value_ptr(forward));
+    glProgramUniform1f(program, kNear, float(view.near_distance));
+    glProgramUniform1i(program, kOrthographic, view.orthographic ? 1 : 0);
+    glProgramUniform4fv(program, kTable, 1, glm::value_ptr(table));
 }
 
 void CellRenderer::Impl::set_scene_depth_uniforms(const Camera& camera, const Viewport& viewport,
                                                   const CellRenderOptions& options) const {
-    // Mode 0: no scene depth; 1: perspective window depth; 2: orthographic (project.glsl).
-    const GLint mode = options.scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
-    for (const gl::Program* p : {&exact, &classic, &mip}) {
-        glProgramUniform1i(p->id(), kSceneDepthMode, mode);
-        glProgramUniform2f(p->id(), kSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
-        glProgramUniform2i(p->id(), kSceneOrigin, viewport.x, viewport.y);
-    }
+    for (const gl::Program* p : {&exact, &classic, &mip}) set_scene_depth_uniforms_on(p->id(), camera, viewport, options.scene_depth);
     glBindTextureUnit(kSceneDepthUnit, options.scene_depth);
     glBindSampler(kSceneDepthUnit, 0);
     FX_GL_CHECK("scene depth");
+}
+
+void CellRenderer::Impl::set_scene_depth_uniforms_on(GLuint program, const Camera& camera, const Viewport& viewport,
+                                                     unsigned scene_depth) const {
+    // Mode 0: no scene depth; 1: perspective window depth; 2: orthographic (project.glsl).
+    const GLint mode = scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
+    glProgramUniform1i(program, kSceneDepthMode, mode);
+    glProgramUniform2f(program, kSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
+    glProgramUniform2i(program, kSceneOrigin, viewport.x, viewport.y);
+}
+
+GLsizei ProjectorAccess::bind(CellRenderer& renderer, GLuint program, const Camera& camera, const Viewport& viewport,
+                              unsigned scene_depth) {
+    const CellRenderer::Impl& m = *renderer.impl_;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.points.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m.triangles.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m.cells.id());
+    glBindTextureUnit(0, m.tables.id());
+    glBindSampler(0, 0);
+    glBindTextureUnit(kSceneDepthUnit, scene_depth);
+    glBindSampler(kSceneDepthUnit, 0);
+    m.set_view_uniforms_on(program, camera, viewport);
+    m.set_scene_depth_uniforms_on(program, camera, viewport, scene_depth);
+    glProgramUniform1i(program, kSource, kSourceMesh);
+    FX_GL_CHECK("projector binding");
+    return GLsizei(m.geometry.triangles.size() * 3);
 }
 
 bool CellRenderer::Impl::mesh_crosses_near_plane(const ProjectorView& view) const {

@@ -36,6 +36,8 @@ struct DepthMap {
         if (ortho) return (z2 - z1) / f;
         return f * zr * (z2 - z1) / ((f - z1) * (f - z2));
     }
+    // Eye depth z_e at screen depth z_s.
+    double eye_depth(double zs) const { return ortho ? zs / f + zr : f * zr / (f - zs); }
     // 1/cos θ for the ray through pixel centre (xc, yc).
     double inv_cos(double xc, double yc) const {
         if (ortho) return 1.0;

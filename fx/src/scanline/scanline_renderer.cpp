@@ -103,6 +103,7 @@ struct alignas(64) WorkerBuffers {
     std::vector<int> seen;
     std::vector<GridSegment> segment; // per grid
     std::vector<std::uint32_t> inside_list;
+    std::vector<SpanVolume> span_volumes; // per-grid media: the grids over one span
 
     std::size_t active_bytes() const {
         return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
@@ -298,6 +299,8 @@ struct FrameContext {
     bool clip;
     OpticalModel model;
     const TransferFunction* tf;
+    const Medium* medium; // per-grid media (ScanlineOptions::medium), or null
+    const Camera* camera;
     Image* image;
 };
 
@@ -519,8 +522,25 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     const TransferFunction& tf = *ctx_.tf;
     SegmentColor acc;
     glm::dvec3 sum(0.0);
-    // One medium between front scalar sf and back scalar sb over `length`.
-    auto integrate = [&](double sf, double sb, double length) {
+    // Per-grid media: the pixel's ray in the world, a span from screen depth z over `length`.
+    RaySpan ray;
+    if (ctx_.medium) {
+        const Ray r = ctx_.camera->pixel_ray(x + 0.5, y + 0.5, ctx_.width, ctx_.height);
+        ray.origin = r.origin, ray.dir = r.direction;
+    }
+    auto span_at = [&](double z, double length) {
+        ray.t_front = dm.eye_depth(z) * inv_cos;
+        ray.t_back = ray.t_front + length;
+        return ray;
+    };
+    // One medium between front scalar sf and back scalar sb over `length`, grid `grid` from
+    // screen depth z on.
+    auto integrate = [&](double sf, double sb, double length, std::uint32_t grid, double z) {
+        if (ctx_.medium) {
+            const SpanVolume v{grid, sf, sb};
+            acc = composite(acc, ctx_.medium->integrate_span(&v, 1, span_at(z, length)));
+            return;
+        }
         switch (ctx_.model) {
         case OpticalModel::EmissionAbsorption: acc = composite(acc, emission_absorption(tf, sf, sb, length)); break;
         case OpticalModel::Emission: sum += emission_integral(tf, sf, sb, length); break;
@@ -549,7 +569,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
             if (frags[k].toggles) in = !in;
             if (in) {
                 const double length = dm.eye_delta(frags[k].z, frags[k + 1].z) * inv_cos;
-                if (length > 0.0) integrate(s_front, s_back, length);
+                if (length > 0.0) integrate(s_front, s_back, length, frags[k].grid, frags[k].z);
             }
             s_front = s_back;
         }
@@ -619,7 +639,18 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         if (inside_list.size() == 1) {
             const GridSegment& g = segment[inside_list[0]];
             if (g.b == kNoCrossing) { ++lost; continue; }
-            integrate(scalar_at(g, k), scalar_at(g, k + 1), length);
+            integrate(scalar_at(g, k), scalar_at(g, k + 1), length, inside_list[0], c.z);
+            continue;
+        }
+        if (ctx_.medium) { // several media over this span: fx/medium.hpp mixes them
+            std::vector<SpanVolume>& spans = b_.span_volumes;
+            spans.clear();
+            for (std::uint32_t gi : inside_list) {
+                const GridSegment& g = segment[gi];
+                if (g.b == kNoCrossing) { ++lost; continue; }
+                spans.push_back(SpanVolume{gi, scalar_at(g, k), scalar_at(g, k + 1)});
+            }
+            acc = composite(acc, ctx_.medium->integrate_span(spans.data(), spans.size(), span_at(c.z, length)));
             continue;
         }
         // Several grids over this span: their media add (see the header).
@@ -742,6 +773,11 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     threads = std::min(threads, 256u);
     if (options.lines_per_task < 0) throw Error("scan-line renderer: lines_per_task must not be negative");
+    if (options.medium && options.medium->volumes().size() != mesh_.blocks.size())
+        throw Error("scan-line renderer: the medium has " + std::to_string(options.medium->volumes().size()) +
+                    " volumes for " + std::to_string(mesh_.blocks.size()) + " grids (one per block)");
+    if (options.medium && options.model != OpticalModel::EmissionAbsorption)
+        throw Error("scan-line renderer: per-grid media need the emission-absorption model");
 
     // The buffers of an earlier frame, or new ones when another render() holds them.
     std::unique_ptr<FrameBuffers> buffers;
@@ -1029,6 +1065,8 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     ctx.clip = options.clip_box.has_value();
     ctx.model = options.model;
     ctx.tf = &tf;
+    ctx.medium = options.medium;
+    ctx.camera = &camera;
     ctx.image = &image;
 
     // Scan lines are handed out in chunks of consecutive lines through one atomic counter (no

@@ -21,13 +21,21 @@
 //                                 "cutoff": 0.02, "seed": 1},
 //                    "transfer_function": "...", "extinction_scale": 1, "path": "mip",
 //                    "pixel_error": 4, "enabled": true},
-//       "effects":  [{"type": "campfire" | "search_light" | "laser_cone", "name": "fire",
-//                     "enabled": true, "path": "pcp-exact", "absorb": false,
-//                     "transfer_function": "../transfer_functions/fire.json", "extinction_scale": 1,
+//       "effects":  [{"type": "campfire" | "search_light" | "laser_cone" | "volume", "name": "fire",
+//                     "enabled": true, "path": "pcp-exact", "absorb": false (volume: true),
+//                     "transfer_function": "../transfer_functions/fire.json" or inline
+//                     {"points": [[s, r, g, b, sigma], ...]}, "extinction_scale": 1,
 //                     ... the type's parameters under their C++ names (fx/campfire.hpp,
-//                     fx/search_light.hpp, fx/laser_cone.hpp), e.g. "position": [x, y, z],
+//                     fx/search_light.hpp, fx/laser_cone.hpp, fx/volume.hpp), e.g. "position": [x, y, z],
 //                     "base_radius": 0.45, "sweep": {"axis": [0, 0, 1], "amplitude_degrees": 30,
 //                     "period": 8, "phase_degrees": 0}}, ...],
+//                   volume: {"type": "volume", "shape": "box" | "sphere" | "mesh", "size": [x, y, z],
+//                     "radius": r, "mesh": "file", "q_file": "file" (PLOT3D), "field": "name",
+//                     "rotation_degrees": [x, y, z], "cells": n, "density": d,
+//                     "density_mode": "constant" | "noise" | "field" (default: noise with a "noise"
+//                     object, field for a mesh, else constant), "edge_fade": f,
+//                     "noise": {"frequency", "octaves", "coverage", "contrast", "drift": [x, y, z],
+//                     "evolve", "seed"}}
 //       "camera":   {"eye": [x, y, z], "target": [x, y, z], "up": [0, 0, 1], "fov": 50,
 //                    "near": 5, "far": 60000},
 //       "camera_path": {"loop": false, "keys": [{"time": 0, "eye": [x, y, z], "target": [x, y, z]}, ...]},
@@ -61,6 +69,7 @@
 #include "fx/laser_cone.hpp"
 #include "fx/search_light.hpp"
 #include "fx/transfer_function.hpp"
+#include "fx/volume.hpp"
 #include "terrain/aurora.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
@@ -82,12 +91,22 @@ struct NoiseSpec {
 // A generator for the spec (deterministic; fbm in [−1, 1]).
 HeightGenerator make_noise_generator(const NoiseSpec& spec);
 
+// How an effect's light scatters in the scene's absorbing media (fog, smoke volumes): a search
+// light's or laser's beam, a campfire's glow (fx::MediumLight, docs/effects.md "One medium").
+struct LightSpec {
+    glm::dvec3 color{1.0, 1.0, 1.0}; // times strength: the scattered radiance of a unit optical
+    double strength = 1.0;           // depth of albedo-1 medium at full light and phase 1; 0: off
+    double phase_g = 0.5;            // Henyey–Greenstein g, (−1, 1): > 0 brightest looking into the light
+    double radius = 0.0;             // campfire: how far its glow reaches (m; 0: 6 × its height)
+};
+
 struct FogSpec {
     HeightField thickness;            // on the ground's grid
     LayerPrismOptions prisms;
     fx::TransferFunction transfer_function;
     fx::RenderPath path = fx::RenderPath::PcpExact;
     bool absorb = true;               // pcp-exact: fog dims what is behind it
+    double albedo = 0.9;              // how much of a light crossing it the fog scatters (0..1)
     bool enabled = true;              // false: declared but neither built nor drawn (until enabled)
 };
 
@@ -101,8 +120,8 @@ struct AuroraSpec {
 };
 
 // A free-standing effect the scene calls for (one entry of "effects").
-using EffectParams = std::variant<fx::CampfireParams, fx::SearchLightParams, fx::LaserConeParams>;
-const char* effect_type_name(const EffectParams& params); // "campfire", "search_light", "laser_cone"
+using EffectParams = std::variant<fx::CampfireParams, fx::SearchLightParams, fx::LaserConeParams, fx::VolumeParams>;
+const char* effect_type_name(const EffectParams& params); // "campfire", "search_light", "laser_cone", "volume"
 // The effect those parameters describe (throws fx::Error as its constructor does).
 std::unique_ptr<fx::Effect> make_effect(const EffectParams& params);
 
@@ -112,7 +131,9 @@ struct EffectSpec {
     fx::TransferFunction transfer_function; // extinction scaled; normalized ones are mapped onto
                                             // the effect's scalar_range()
     fx::RenderPath path = fx::RenderPath::PcpExact;
-    bool absorb = false;                    // pcp-exact: also dims what is behind it
+    bool absorb = false;                    // pcp-exact: also dims what is behind it (volumes: true)
+    double albedo = 0.0;                    // absorbing effects: how much light they scatter (volumes: 0.9)
+    LightSpec light;                        // campfire, search light, laser cone: their light in the media
     bool enabled = true;
 };
 

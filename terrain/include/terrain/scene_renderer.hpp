@@ -38,6 +38,7 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/effect.hpp"
 #include "fx/image.hpp"
+#include "fx/medium_compositor.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
@@ -68,6 +69,7 @@ struct EffectFrameStats {
     double upload_ms = 0.0;        // set_mesh / set_scalars (CPU, incl. driver copies)
     double draw_ms = 0.0;          // the render path's CPU time
     double gpu_ms = -1.0;          // GL_TIME_ELAPSED of its draw; −1 unless timing is on
+    bool in_medium = false;        // integrated with the others where they overlap (FrameStats::medium)
     fx::CellRenderStats render;    // the render path's own figures
 };
 
@@ -81,6 +83,9 @@ struct FrameStats {
     double surface_gpu_ms = -1.0, composite_gpu_ms = -1.0;
     std::size_t cells_drawn = 0;   // all effects
     std::size_t noise_samples = 0; // all effects
+    // One medium: the region where volumes overlapped and were integrated together (pixels 0
+    // when none did), its segments and time (GPU time included in gpu_ms).
+    fx::MediumStats medium;
 
     // The terrain's stages (as before effects existed).
     LodStats terrain_lod, aurora_lod;             // refinements done this frame (zero if none)
@@ -167,6 +172,19 @@ public:
     void set_fog_path(fx::RenderPath path);    // no-op without fog
     void set_aurora_path(fx::RenderPath path); // no-op without aurora
     void set_pixel_error(double pixels);
+
+    // The effects the last update() simulated (enabled, in view) that have cells, in the
+    // scene's order, each with its medium as the renderer integrates it (transfer function in scalar
+    // units, absorbing or not, albedo, light in the world) and its path: what the scan-line
+    // reference of the frame renders (terrain/scene_reference.hpp).
+    struct DrawnVolume {
+        std::string name;
+        const fx::Effect* effect = nullptr; // mesh() and transform() of that update
+        fx::RenderPath path = fx::RenderPath::PcpExact;
+        bool in_medium = false;            // pcp-exact, absorption, absorption-exact: one medium
+        fx::MediumVolume medium;
+    };
+    std::vector<DrawnVolume> drawn_volumes() const;
 
     const Scene& scene() const;
     const ContinuousLod& terrain_lod() const; // throws fx::Error for a scene without terrain

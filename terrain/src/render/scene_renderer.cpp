@@ -17,6 +17,7 @@
 #include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
 #include "gl/state_guard.hpp"
+#include "render/scene_medium.hpp"
 #include "render/terrain_shaders.hpp"
 #include "terrain/layer_effects.hpp"
 #include "terrain/terrain_lod.hpp"
@@ -45,6 +46,8 @@ struct Slot {
     fx::TransferFunction tf; // in scalar units
     fx::RenderPath path = fx::RenderPath::PcpExact;
     bool absorb = false;
+    double albedo = 0.0;  // absorbing: how much light it scatters
+    LightSpec light;      // how its medium_light() shows in the absorbing media
     bool enabled = true;
     std::optional<fx::CellRenderer> renderer; // made when the effect first has cells to draw
     fx::EffectChanges pending;                // changes not uploaded yet
@@ -76,6 +79,35 @@ private:
     bool on_;
 };
 
+// The paths of the emission–absorption model integrate together as one medium; pcp (classic,
+// emission only) and mip (maximum) keep their own models and are added over it.
+bool in_medium(const Slot& s) {
+    return s.path == fx::RenderPath::PcpExact || s.path == fx::RenderPath::Absorption ||
+           s.path == fx::RenderPath::AbsorptionExact;
+}
+// The sorted paths always absorb; pcp-exact when the effect is declared absorbing.
+bool absorbs(const Slot& s) { return s.path != fx::RenderPath::PcpExact ? in_medium(s) : s.absorb; }
+
+// The effect's medium in the world: its transfer function, whether it absorbs, its albedo and
+// its light (moved by its transform).
+fx::MediumVolume medium_volume(const Slot& s) {
+    fx::MediumVolume v;
+    v.tf = s.tf;
+    v.absorbs = absorbs(s);
+    v.albedo = v.absorbs ? s.albedo : 0.0;
+    fx::MediumLight l = s.effect->medium_light();
+    if (l.kind != fx::MediumLight::Kind::None && s.light.strength > 0.0) {
+        const glm::dmat4& m = s.effect->transform();
+        l.origin = glm::dvec3(m * glm::dvec4(l.origin, 1.0));
+        l.axis = glm::normalize(glm::dvec3(m * glm::dvec4(l.axis, 0.0)));
+        l.color = s.light.color * s.light.strength;
+        l.phase_g = s.light.phase_g;
+        if (s.light.radius > 0.0) l.radius = s.light.radius;
+        v.light = l;
+    }
+    return v;
+}
+
 std::string format_ms(double ms) {
     char b[32];
     std::snprintf(b, sizeof b, "%.1f", ms);
@@ -104,10 +136,13 @@ const EffectFrameStats* FrameStats::find(std::string_view name) const {
 std::string FrameStats::summary() const {
     std::string s = "t " + format_ms(time) + " s  " + format_ms(frame_ms) + " ms";
     if (gpu_ms >= 0.0) s += " (gpu " + format_ms(gpu_ms) + ")";
+    if (medium.pixels > 0)
+        s += "  |  medium " + std::to_string(medium.pixels) + " px, " + std::to_string(medium.segments) + " segments";
     for (const EffectFrameStats& e : effects) {
         s += "  |  " + e.name + ": " + effect_status_name(e.status);
         if (effect_skipped(e.status)) continue;
-        s += " " + std::string(fx::render_path_name(e.path)) + " " + std::to_string(e.cells_drawn) + " cells";
+        s += " " + std::string(fx::render_path_name(e.path)) + (e.in_medium ? "+medium " : " ") + std::to_string(e.cells_drawn) +
+             " cells";
         if (e.cells_built) s += ", built " + std::to_string(e.cells_built);
         if (e.noise_samples) s += ", noise " + std::to_string(e.noise_samples);
     }
@@ -139,6 +174,9 @@ struct SceneRenderer::Impl {
     fx::gl::Sampler depth_sampler;
     fx::gl::VertexArray empty_vao;
     fx::gl::Query surface_timer, composite_timer;
+    std::optional<fx::MediumCompositor> medium; // made on the first frame whose volumes overlap
+    fx::gl::Texture behind;                     // the frame behind the medium's region
+    int behind_width = 0, behind_height = 0;
 
     explicit Impl(const Scene& s) : scene(s), draw_terrain(s.draw_terrain && s.has_terrain()) {
         if (s.has_terrain() && (s.fog || draw_terrain))
@@ -150,6 +188,7 @@ struct SceneRenderer::Impl {
             auto effect = std::make_unique<GroundFog>(terrain, f.thickness, f.prisms, lod_view);
             fog = effect.get();
             add_slot("fog", Kind::Fog, std::move(effect), f.transfer_function, f.path, f.absorb, f.enabled);
+            slots.back().albedo = f.albedo;
         }
         if (s.aurora) {
             const AuroraSpec& a = *s.aurora;
@@ -157,8 +196,11 @@ struct SceneRenderer::Impl {
             aurora = effect.get();
             add_slot("aurora", Kind::Aurora, std::move(effect), a.transfer_function, a.path, false, a.enabled);
         }
-        for (const EffectSpec& e : s.effects)
+        for (const EffectSpec& e : s.effects) {
             add_slot(e.name, Kind::Other, make_effect(e.params), e.transfer_function, e.path, e.absorb, e.enabled);
+            slots.back().albedo = e.albedo;
+            slots.back().light = e.light;
+        }
         composite = fx::gl::CompositePass::create();
         depth_copy = terrain_shaders().link({"fullscreen.vert", "scene_depth_copy.frag"});
         depth_sampler = fx::gl::Sampler::create();
@@ -270,10 +312,10 @@ struct SceneRenderer::Impl {
         for (const Slot& s : slots) stats.effects.push_back(s.stats);
     }
 
-    // Uploads what update() changed and draws one effect into the bound framebuffer.
-    void draw_effect(Slot& s, const fx::Viewport& viewport, GLuint scene_depth) {
+    // Uploads what update() changed; false when there is nothing to draw (changes stay pending).
+    bool upload(Slot& s) {
         const fx::CellMesh& mesh = s.effect->mesh();
-        if (mesh.cell_count() == 0) return; // nothing to draw (changes stay pending)
+        if (mesh.cell_count() == 0) return false;
         const auto t = Clock::now();
         if (!s.renderer) {
             s.renderer.emplace(mesh, s.effect->scalar_name(), s.tf);
@@ -284,6 +326,13 @@ struct SceneRenderer::Impl {
         }
         s.pending = fx::EffectChanges{};
         s.stats.upload_ms = ms_since(t);
+        stats.upload_ms += s.stats.upload_ms;
+        return true;
+    }
+
+    // Uploads what update() changed and draws one effect into the bound framebuffer.
+    void draw_effect(Slot& s, const fx::Viewport& viewport, GLuint scene_depth) {
+        if (!upload(s)) return;
         fx::CellRenderOptions options;
         options.fog = s.absorb && s.path == fx::RenderPath::PcpExact;
         options.scene_depth = scene_depth;
@@ -295,7 +344,6 @@ struct SceneRenderer::Impl {
         s.stats.draw_ms = r.cpu_ms;
         s.stats.gpu_ms = r.gpu_ms;
         stats.cells_drawn += r.cells_drawn;
-        stats.upload_ms += s.stats.upload_ms;
         if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + r.gpu_ms;
         if (s.kind == Kind::Fog) stats.fog = r, stats.fog_prisms = fog->prism_stats();
         if (s.kind == Kind::Aurora) stats.aurora = r, stats.aurora_prisms = aurora->prism_stats();
@@ -312,6 +360,29 @@ struct SceneRenderer::Impl {
             return ka == 1 && a->distance > b->distance;
         });
         return order;
+    }
+
+    // The region of the plan: every volume that reaches it appended, the lists integrated over
+    // the frame behind them (the own target).
+    void draw_medium(const MediumPlan& plan, const std::vector<Slot*>& medium_slots, GLuint scene_depth) {
+        if (!medium) medium.emplace();
+        std::vector<fx::MediumVolume> volumes;
+        std::vector<Slot*> appended;
+        for (std::size_t i = 0; i < medium_slots.size() && volumes.size() < fx::MediumCompositor::kMaxVolumes; ++i) {
+            if (!plan.appended[i]) continue;
+            volumes.push_back(medium_volume(*medium_slots[i]));
+            appended.push_back(medium_slots[i]);
+        }
+        target.bind_for_drawing();
+        medium->begin(camera, fx::Viewport{0, 0, width, height}, plan.region, volumes, timing);
+        for (std::size_t v = 0; v < appended.size(); ++v) {
+            Slot& s = *appended[v];
+            medium->append(*s.renderer, fx::camera_in_frame(camera, s.effect->transform()), v, scene_depth);
+            s.stats.in_medium = true;
+            if (s.stats.cells_drawn == 0) s.stats.cells_drawn = s.effect->mesh().cell_count(), stats.cells_drawn += s.stats.cells_drawn;
+        }
+        stats.medium = medium->resolve(behind.id());
+        if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.medium.gpu_ms;
     }
 
     void copy_depth(GLuint depth, const fx::Viewport& viewport) {
@@ -350,7 +421,25 @@ struct SceneRenderer::Impl {
         const double upload_before = stats.upload_ms;
         if (draw_terrain && !surface) surface.emplace(scene.ground);
         const std::vector<Slot*> order = draw_order();
-        const bool own_target = mode == Mode::Opaque || draw_terrain;
+        // One medium: where volumes of the emission–absorption model overlap on screen, they
+        // are integrated together (planned from their bounds: nothing more when none overlap).
+        std::vector<Slot*> medium_slots;
+        std::vector<MediumCandidate> candidates;
+        for (Slot* s : order) {
+            if (!in_medium(*s) || s->effect->mesh().cell_count() == 0) continue;
+            const fx::MediumVolume v = medium_volume(*s);
+            MediumCandidate c;
+            c.bounds = s->effect->world_bounds(time);
+            c.absorbs = v.absorbs;
+            c.scatters = v.absorbs && v.albedo > 0.0;
+            if (v.light.kind == fx::MediumLight::Kind::Point)
+                c.light_reach = fx::Bounds{v.light.origin - v.light.radius, v.light.origin + v.light.radius};
+            medium_slots.push_back(s);
+            candidates.push_back(c);
+        }
+        const MediumPlan plan = plan_medium(candidates, camera, width, height);
+        const bool use_medium = !plan.region.empty();
+        const bool own_target = mode == Mode::Opaque || draw_terrain || use_medium;
         {
             fx::gl::StateGuard guard;
             fx::gl::StateGuard::set_render_defaults();
@@ -375,7 +464,27 @@ struct SceneRenderer::Impl {
             } else {
                 glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host ? *host : 0);
             }
-            for (Slot* s : order) draw_effect(*s, effect_viewport, scene_depth);
+            if (use_medium) {
+                // What lies behind the volumes in the region: the frame so far.
+                if (behind_width != width || behind_height != height) {
+                    behind = fx::gl::make_texture_2d(GL_RGBA32F, width, height);
+                    behind_width = width, behind_height = height;
+                }
+                const fx::PixelRect& r = plan.region;
+                glCopyImageSubData(target.color_texture(), GL_TEXTURE_2D, 0, r.x, r.y, 0, behind.id(), GL_TEXTURE_2D, 0,
+                                   r.x, r.y, 0, r.width, r.height, 1);
+            }
+            // The volumes of the medium: each with its own path outside the region ...
+            for (std::size_t i = 0; i < medium_slots.size(); ++i) {
+                Slot& s = *medium_slots[i];
+                if (use_medium && plan.region_only[i]) upload(s); // drawn in the region only
+                else draw_effect(s, effect_viewport, scene_depth);
+            }
+            // ... and all together inside it, replacing what their paths drew there.
+            if (use_medium) draw_medium(plan, medium_slots, scene_depth);
+            // The emission (pcp) and maximum (mip) effects add their light over it.
+            for (Slot* s : order)
+                if (!in_medium(*s)) draw_effect(*s, effect_viewport, scene_depth);
             if (own_target && host) {
                 glBindFramebuffer(GL_DRAW_FRAMEBUFFER, *host);
                 glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
@@ -411,6 +520,7 @@ std::unique_ptr<fx::Effect> make_effect(const EffectParams& params) {
             return std::make_unique<fx::SearchLight>(p);
         }
         std::unique_ptr<fx::Effect> operator()(const fx::LaserConeParams& p) const { return std::make_unique<fx::LaserCone>(p); }
+        std::unique_ptr<fx::Effect> operator()(const fx::VolumeParams& p) const { return std::make_unique<fx::Volume>(p); }
     };
     return std::visit(Make{}, params);
 }
@@ -490,6 +600,15 @@ void SceneRenderer::set_pixel_error(double pixels) {
     if (!(pixels > 0.0) || !std::isfinite(pixels)) throw fx::Error("terrain scene: the pixel error must be positive");
     impl_->scene.pixel_error = pixels;
     if (impl_->fog) impl_->fog->settings().pixel_error = pixels;
+}
+
+std::vector<SceneRenderer::DrawnVolume> SceneRenderer::drawn_volumes() const {
+    std::vector<DrawnVolume> out;
+    for (const Slot& s : impl_->slots) {
+        if (!s.simulated || s.effect->mesh().cell_count() == 0) continue;
+        out.push_back({s.name, s.effect.get(), s.path, in_medium(s), medium_volume(s)});
+    }
+    return out;
 }
 
 const Scene& SceneRenderer::scene() const { return impl_->scene; }

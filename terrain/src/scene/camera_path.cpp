@@ -12,6 +12,7 @@ const char* effect_type_name(const EffectParams& params) {
         const char* operator()(const fx::CampfireParams&) const { return "campfire"; }
         const char* operator()(const fx::SearchLightParams&) const { return "search_light"; }
         const char* operator()(const fx::LaserConeParams&) const { return "laser_cone"; }
+        const char* operator()(const fx::VolumeParams&) const { return "volume"; }
     };
     return std::visit(Name{}, params);
 }

@@ -1,5 +1,6 @@
 // The scene-file loader (format: terrain/scene.hpp and docs/terrain.md). The one place that
 // reads scene JSON: later sections (effects) are added here.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fx/error.hpp"
+#include "fx/mesh_io.hpp"
 #include "terrain/scene.hpp"
 
 namespace terrain {
@@ -127,6 +129,7 @@ std::string fx_format(double v) {
 void validate_effect_params(const fx::CampfireParams& p) { fx::Campfire check(p); }
 void validate_effect_params(const fx::SearchLightParams& p) { fx::SearchLight check(p); }
 void validate_effect_params(const fx::LaserConeParams& p) { fx::LaserCone check(p); }
+void validate_effect_params(const fx::VolumeParams& p) { fx::Volume check(p); }
 
 std::string resolve(const std::string& base_dir, const std::string& file) {
     const std::filesystem::path p(file);
@@ -158,13 +161,20 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
     return path;
 }
 
+// A transfer function given by file name or inline ({"points": [[s, r, g, b, sigma], ...]}),
+// its extinction scaled by "extinction_scale".
 fx::TransferFunction load_transfer_function(Section& s, const std::string& base_dir) {
-    const std::string file = resolve(base_dir, s.string("transfer_function"));
     fx::TransferFunction tf;
-    try {
-        tf = fx::TransferFunction::read_json(file);
-    } catch (const fx::Error& e) {
-        throw s.error("transfer_function", e.what());
+    if (s.has("transfer_function") && s.at("transfer_function").is_object()) {
+        // Errors name the key path as the source: "fx.json: effects[0].transfer_function: points[1]: ...".
+        tf = fx::TransferFunction::parse_json(s.at("transfer_function").dump(), s.source() + ": " + s.child("transfer_function"));
+    } else {
+        const std::string file = resolve(base_dir, s.string("transfer_function"));
+        try {
+            tf = fx::TransferFunction::read_json(file);
+        } catch (const fx::Error& e) {
+            throw s.error("transfer_function", e.what());
+        }
     }
     const double k = s.number("extinction_scale", 1.0);
     if (k < 0.0) throw s.error("extinction_scale", "must not be negative");
@@ -252,6 +262,8 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
     fog.transfer_function = load_transfer_function(s, base_dir);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
+    fog.albedo = s.number("albedo", fog.albedo);
+    if (fog.albedo < 0.0 || fog.albedo > 1.0) throw s.error("albedo", "must be in [0, 1]");
     fog.enabled = s.boolean("enabled", true);
     s.finish();
     return fog;
@@ -365,21 +377,91 @@ fx::LaserConeParams parse_laser_cone(Section& s) {
     return p;
 }
 
+fx::VolumeParams parse_volume(Section& s, const std::string& base_dir) {
+    fx::VolumeParams p;
+    const std::string shape = s.string("shape", std::string("box"));
+    if (shape == "box") p.shape = fx::VolumeShape::Box;
+    else if (shape == "sphere") p.shape = fx::VolumeShape::Sphere;
+    else if (shape == "mesh") p.shape = fx::VolumeShape::Mesh;
+    else throw s.error("shape", "unknown shape '" + shape + "' (expected box, sphere, mesh)");
+    p.position = s.vector<3>("position", p.position);
+    p.rotation_degrees = s.vector<3>("rotation_degrees", p.rotation_degrees);
+    if (p.shape == fx::VolumeShape::Box) {
+        p.size = s.vector<3>("size", p.size);
+        if (!(p.size.x > 0.0 && p.size.y > 0.0 && p.size.z > 0.0)) throw s.error("size", "must be three positive extents");
+    }
+    if (p.shape == fx::VolumeShape::Sphere) p.radius = s.positive("radius", p.radius);
+    if (p.shape == fx::VolumeShape::Mesh) {
+        const std::string file = resolve(base_dir, s.string("mesh"));
+        const std::string q_file = s.has("q_file") ? resolve(base_dir, s.string("q_file")) : std::string();
+        try {
+            p.mesh = std::make_shared<const fx::CellMesh>(fx::read_mesh(file, q_file));
+        } catch (const fx::Error& e) {
+            throw s.error("mesh", e.what());
+        }
+        p.field = s.string("field", std::string());
+    }
+    p.cells = bounded(s, "cells", p.cells, 0, 256);
+    p.density = non_negative(s, "density", p.density);
+    p.edge_fade = in_range(s, "edge_fade", p.edge_fade, 0.0, 1.0);
+    // The density's kind: as given, else noise when a "noise" object is, else a mesh's field.
+    p.density_mode = s.has("noise") ? fx::VolumeDensity::Noise
+                     : p.shape == fx::VolumeShape::Mesh ? fx::VolumeDensity::Field
+                                                        : fx::VolumeDensity::Constant;
+    if (s.has("density_mode")) {
+        const std::string mode = s.string("density_mode");
+        if (mode == "constant") p.density_mode = fx::VolumeDensity::Constant;
+        else if (mode == "noise") p.density_mode = fx::VolumeDensity::Noise;
+        else if (mode == "field") p.density_mode = fx::VolumeDensity::Field;
+        else throw s.error("density_mode", "unknown density '" + mode + "' (expected constant, noise, field)");
+    }
+    if (s.has("noise")) {
+        Section n = s.object("noise");
+        fx::VolumeNoise& v = p.noise;
+        v.frequency = n.positive("frequency", v.frequency);
+        v.octaves = bounded(n, "octaves", v.octaves, 1, 8);
+        v.coverage = in_range(n, "coverage", v.coverage, 0.0, 1.0);
+        v.contrast = non_negative(n, "contrast", v.contrast);
+        v.drift = n.vector<3>("drift", v.drift);
+        v.evolve = n.number("evolve", v.evolve);
+        v.seed = std::uint32_t(n.integer("seed", v.seed, 0, 0xffffffffL));
+        n.finish();
+    }
+    return p;
+}
+
+LightSpec parse_light(Section l) {
+    LightSpec light;
+    light.color = l.vector<3>("color", light.color);
+    if (light.color.r < 0.0 || light.color.g < 0.0 || light.color.b < 0.0) throw l.error("color", "must not be negative");
+    light.strength = non_negative(l, "strength", light.strength);
+    light.phase_g = in_range(l, "g", light.phase_g, -0.99, 0.99);
+    light.radius = non_negative(l, "radius", light.radius);
+    l.finish();
+    return light;
+}
+
 EffectSpec parse_effect(Section s, const std::string& base_dir) {
     EffectSpec e;
     const std::string type = s.string("type");
     if (type == "campfire") e.params = parse_campfire(s);
     else if (type == "search_light") e.params = parse_search_light(s);
     else if (type == "laser_cone") e.params = parse_laser_cone(s);
+    else if (type == "volume") e.params = parse_volume(s, base_dir);
     else if (type == "ground_fog" || type == "aurora")
         throw s.error("type", "'" + type + "' is declared by the scene's \"" + (type == "aurora" ? "aurora" : "fog") +
                                   "\" section, not in effects");
-    else throw s.error("type", "unknown effect type '" + type + "' (expected campfire, search_light, laser_cone)");
+    else throw s.error("type", "unknown effect type '" + type + "' (expected campfire, search_light, laser_cone, volume)");
     e.name = s.string("name", type);
     if (e.name.empty()) throw s.error("name", "must not be empty");
     e.enabled = s.boolean("enabled", true);
     e.path = parse_path(s, "path", fx::RenderPath::PcpExact);
-    e.absorb = s.boolean("absorb", false);
+    e.absorb = s.boolean("absorb", type == "volume"); // volumes absorb unless told otherwise
+    e.albedo = in_range(s, "albedo", type == "volume" ? 0.9 : 0.0, 0.0, 1.0);
+    if (s.has("light")) {
+        if (type == "volume") throw s.error("light", "a volume sheds no light (campfires, search lights and laser cones do)");
+        e.light = parse_light(s.object("light"));
+    }
     e.transfer_function = load_transfer_function(s, base_dir);
     s.finish();
     // The effect's own checks (cross-parameter rules), named by the entry.
@@ -391,14 +473,15 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
     return e;
 }
 
-std::vector<EffectSpec> parse_effects(Section& root, const std::string& base_dir) {
+// `taken`: the names of the scene's own sections ("fog", "aurora") when it declares them.
+std::vector<EffectSpec> parse_effects(Section& root, const std::string& base_dir, const std::vector<std::string>& taken) {
     const json& list = root.at("effects");
     if (!list.is_array()) throw root.error("effects", "expected an array of effects");
     std::vector<EffectSpec> effects;
     for (std::size_t i = 0; i < list.size(); ++i) {
         const std::string where = "effects[" + std::to_string(i) + "]";
         EffectSpec e = parse_effect(Section(list[i], where, root.source()), base_dir);
-        if (e.name == "fog" || e.name == "aurora")
+        if (std::find(taken.begin(), taken.end(), e.name) != taken.end())
             throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is reserved for the scene's " + e.name +
                             " section");
         for (std::size_t k = 0; k < effects.size(); ++k)
@@ -484,7 +567,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         scene.fog = parse_fog(root.object("fog"), scene.ground, base_dir);
     }
     if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), base_dir);
-    if (root.has("effects")) scene.effects = parse_effects(root, base_dir);
+    if (root.has("effects")) {
+        std::vector<std::string> taken;
+        if (scene.fog) taken.push_back("fog");
+        if (scene.aurora) taken.push_back("aurora");
+        scene.effects = parse_effects(root, base_dir, taken);
+    }
     scene.camera = parse_camera(root.object("camera"));
     if (root.has("camera_path")) scene.camera_path = parse_camera_path(root.object("camera_path"));
     if (root.has("render")) {

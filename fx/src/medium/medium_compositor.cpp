@@ -1,0 +1,352 @@
+// Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (intersecting grids integrated in depth
+// order per pixel), on the GPU with per-pixel lists of ray segments. Shaders:
+// medium_lists.glsl, medium_append.frag (with project.vert), medium_resolve.frag.
+#include "fx/medium_compositor.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "fx/error.hpp"
+#include "gl/gl_check.hpp"
+#include "gl/gl_object.hpp"
+#include "gl/shader_library.hpp"
+#include "gl/state_guard.hpp"
+#include "projector/projector_access.hpp"
+
+namespace fx {
+namespace {
+
+// Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag).
+enum Uniform : GLint {
+    kRegion = 30,
+    kVolume = 31,
+    kCapacity = 32,
+    kForward = 35,
+    kRight = 36,
+    kUp = 37,
+    kOrtho = 38,
+    kViewport = 39,
+    kTable = 40,
+    kMedium = 72,
+    kBeamOrigin = 104,
+    kBeamAxis = 136,
+    kBeamColor = 168,
+    kPointCount = 200,
+    kPointPosition = 201,
+    kPointColor = 209,
+    kPointG = 217,
+};
+constexpr int kMaxPointLights = 8;
+constexpr GLuint kListsBinding = 3;
+constexpr GLuint kTablesUnit = 0, kBehindUnit = 2;
+constexpr int kTableSize = 4096;           // samples per row, as the cell renderer's tables
+constexpr std::size_t kHeaderBytes = 16;   // medium_count + padding
+constexpr std::size_t kSegmentWords = 5;
+constexpr std::size_t kMaxCapacity = (std::size_t(1) << 27) - 2; // 27 bits of "next" (medium_lists.glsl)
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+bool same_points(const TransferFunction& a, const TransferFunction& b) {
+    const auto& p = a.points();
+    const auto& q = b.points();
+    if (p.size() != q.size()) return false;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (p[i].s != q[i].s || p[i].color != q[i].color || p[i].sigma != q[i].sigma) return false;
+    return true;
+}
+
+// The two table rows of project.glsl for one transfer function: cumulative (E rgb, ∫σ a) and
+// point values (c·σ rgb, σ a) at kTableSize samples of its range.
+void table_rows(const TransferFunction& tf, std::vector<glm::vec4>& texels, double& s_lo, double& s_hi) {
+    const EmissionTable emission = build_emission_table(tf, kTableSize);
+    std::vector<TransferPoint> white = tf.points();
+    for (TransferPoint& p : white) p.color = glm::dvec3(1.0);
+    const EmissionTable extinction = build_emission_table(TransferFunction(white), kTableSize);
+    s_lo = emission.s_lo;
+    s_hi = emission.s_hi;
+    texels.resize(2 * kTableSize);
+    for (int i = 0; i < kTableSize; ++i) {
+        texels[i] = glm::vec4(emission.cumulative[i], extinction.cumulative[i].x);
+        const double s = i + 1 == kTableSize ? s_hi : s_lo + (s_hi - s_lo) * double(i) / (kTableSize - 1);
+        texels[kTableSize + i] = glm::vec4(glm::vec3(tf.emission(s)), float(tf.sigma(s)));
+    }
+}
+
+glm::vec3 vec3f(const glm::dvec3& v) { return glm::vec3(v); }
+
+} // namespace
+
+struct MediumCompositor::Impl {
+    gl::Program append_program, resolve_program;
+    gl::VertexArray vao;
+    gl::Buffer lists;
+    std::size_t lists_bytes = 0, capacity = 0, heads = 0;
+    std::size_t wanted = 0; // segments the largest frame so far needed (+ 25%)
+    gl::Texture tables;
+    std::array<TransferFunction, kMaxVolumes> uploaded; // per table row pair
+    std::array<glm::vec4, kMaxVolumes> table_params{};
+    gl::Query timer;
+
+    // The frame begun.
+    bool begun = false, timing = false;
+    Camera camera;
+    Viewport viewport;
+    PixelRect region; // framebuffer pixels
+    std::vector<MediumVolume> volumes;
+    struct Append {
+        CellRenderer* renderer;
+        Camera local_camera;
+        std::size_t volume;
+        unsigned scene_depth;
+    };
+    std::vector<Append> appends;
+    MediumStats stats;
+    std::vector<glm::vec4> scratch;
+
+    void upload_tables();
+    void set_resolve_uniforms();
+    void reserve(std::size_t segments);
+    void clear_lists();
+    void draw_append(const Append& a);
+    void timed_begin();
+    void timed_end();
+};
+
+MediumCompositor::MediumCompositor() : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
+    m.append_program = lib.link({"project.vert", "medium_append.frag"});
+    m.resolve_program = lib.link({"fullscreen.vert", "medium_resolve.frag"});
+    m.vao = gl::VertexArray::create();
+    m.tables = gl::make_texture_2d(GL_RGBA32F, kTableSize, 2 * kMaxVolumes);
+    m.timer = gl::Query::create(GL_TIME_ELAPSED);
+    FX_GL_CHECK("medium compositor set-up");
+}
+
+MediumCompositor::~MediumCompositor() = default;
+MediumCompositor::MediumCompositor(MediumCompositor&&) noexcept = default;
+MediumCompositor& MediumCompositor::operator=(MediumCompositor&&) noexcept = default;
+
+std::size_t MediumCompositor::gpu_bytes() const {
+    return impl_->lists_bytes + std::size_t(kTableSize) * 2 * kMaxVolumes * sizeof(glm::vec4);
+}
+
+void MediumCompositor::Impl::upload_tables() {
+    for (std::size_t v = 0; v < volumes.size(); ++v) {
+        const TransferFunction& tf = volumes[v].tf;
+        if (same_points(tf, uploaded[v]) && !uploaded[v].points().empty()) continue;
+        double s_lo = 0.0, s_hi = 1.0;
+        table_rows(tf, scratch, s_lo, s_hi);
+        glTextureSubImage2D(tables.id(), 0, 0, GLint(2 * v), kTableSize, 2, GL_RGBA, GL_FLOAT, scratch.data());
+        const double span = s_hi - s_lo;
+        table_params[v] = glm::vec4(float(s_lo), float(s_hi), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f,
+                                    float(kTableSize));
+        uploaded[v] = tf;
+    }
+    FX_GL_CHECK("medium tables");
+}
+
+void MediumCompositor::Impl::set_resolve_uniforms() {
+    const GLuint p = resolve_program.id();
+    const glm::dvec3 forward = camera.forward();
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double aspect = double(viewport.width) / double(viewport.height);
+    const double half = camera.orthographic() ? 0.5 * camera.ortho_height
+                                              : std::tan(0.5 * camera.fov_y_degrees * 0.017453292519943295);
+    glProgramUniform3fv(p, kForward, 1, glm::value_ptr(vec3f(forward)));
+    glProgramUniform3fv(p, kRight, 1, glm::value_ptr(vec3f(right * (half * aspect))));
+    glProgramUniform3fv(p, kUp, 1, glm::value_ptr(vec3f(up * half)));
+    glProgramUniform1i(p, kOrtho, camera.orthographic() ? 1 : 0);
+    glProgramUniform4f(p, kViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
+
+    std::array<glm::vec4, kMaxVolumes> medium{}, origin{}, axis{}, color{};
+    std::array<glm::vec4, kMaxPointLights> point_position{}, point_color{};
+    std::array<float, kMaxPointLights> point_g{};
+    int points = 0;
+    for (std::size_t v = 0; v < volumes.size(); ++v) {
+        const MediumVolume& vol = volumes[v];
+        const MediumLight& light = vol.light;
+        const bool beam = light.kind == MediumLight::Kind::Beam;
+        medium[v] = glm::vec4(vol.absorbs ? 1.0f : 0.0f, float(vol.albedo), beam ? 1.0f : 0.0f, float(light.phase_g));
+        if (beam) {
+            origin[v] = glm::vec4(vec3f(light.origin - camera.eye), float(light.apex_distance));
+            axis[v] = glm::vec4(vec3f(glm::normalize(light.axis)), float(light.strength_per_scalar));
+            color[v] = glm::vec4(vec3f(light.color), 0.0f);
+        } else if (light.kind == MediumLight::Kind::Point && points < kMaxPointLights) {
+            point_position[points] = glm::vec4(vec3f(light.origin - camera.eye), float(light.core_radius));
+            point_color[points] = glm::vec4(vec3f(light.color), float(light.radius));
+            point_g[points] = float(light.phase_g);
+            ++points;
+        }
+    }
+    glProgramUniform4fv(p, kTable, kMaxVolumes, glm::value_ptr(table_params[0]));
+    glProgramUniform4fv(p, kMedium, kMaxVolumes, glm::value_ptr(medium[0]));
+    glProgramUniform4fv(p, kBeamOrigin, kMaxVolumes, glm::value_ptr(origin[0]));
+    glProgramUniform4fv(p, kBeamAxis, kMaxVolumes, glm::value_ptr(axis[0]));
+    glProgramUniform4fv(p, kBeamColor, kMaxVolumes, glm::value_ptr(color[0]));
+    glProgramUniform1i(p, kPointCount, points);
+    glProgramUniform4fv(p, kPointPosition, kMaxPointLights, glm::value_ptr(point_position[0]));
+    glProgramUniform4fv(p, kPointColor, kMaxPointLights, glm::value_ptr(point_color[0]));
+    glProgramUniform1fv(p, kPointG, kMaxPointLights, point_g.data());
+    FX_GL_CHECK("medium resolve uniforms");
+}
+
+void MediumCompositor::Impl::reserve(std::size_t segments) {
+    segments = std::min(segments, kMaxCapacity);
+    const std::size_t bytes = kHeaderBytes + 4 * (heads + kSegmentWords * segments);
+    if (bytes > lists_bytes) {
+        lists = gl::make_buffer(GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        lists_bytes = bytes;
+    }
+    capacity = std::min(kMaxCapacity, (lists_bytes - kHeaderBytes - 4 * heads) / (4 * kSegmentWords));
+}
+
+void MediumCompositor::Impl::clear_lists() {
+    const GLuint zero = 0;
+    glClearNamedBufferSubData(lists.id(), GL_R32UI, 0, GLsizeiptr(kHeaderBytes + 4 * heads), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    FX_GL_CHECK("medium: clear lists");
+}
+
+void MediumCompositor::Impl::timed_begin() {
+    if (timing) glBeginQuery(GL_TIME_ELAPSED, timer.id());
+}
+
+void MediumCompositor::Impl::timed_end() {
+    if (!timing) return;
+    glEndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(timer.id(), GL_QUERY_RESULT, &ns);
+    stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + double(ns) * 1e-6;
+}
+
+void MediumCompositor::begin(const Camera& camera, const Viewport& viewport, const PixelRect& region,
+                             const std::vector<MediumVolume>& volumes, bool timing) {
+    Impl& m = *impl_;
+    if (volumes.size() > std::size_t(kMaxVolumes))
+        throw Error("medium: " + std::to_string(volumes.size()) + " volumes; at most " + std::to_string(kMaxVolumes));
+    if (viewport.width <= 0 || viewport.height <= 0) throw Error("medium: empty viewport");
+    if (region.empty() || region.x < 0 || region.y < 0 || region.x + region.width > viewport.width ||
+        region.y + region.height > viewport.height)
+        throw Error("medium: the region is empty or outside the viewport");
+    for (std::size_t v = 0; v < volumes.size(); ++v) {
+        if (volumes[v].tf.points().empty())
+            throw Error("medium: volume " + std::to_string(v) + " has a transfer function without points");
+        if (volumes[v].tf.normalized())
+            throw Error("medium: volume " + std::to_string(v) + "'s transfer function is normalized (rescale it to its scalars)");
+    }
+    const auto start = Clock::now();
+    m.camera = camera;
+    m.viewport = viewport;
+    m.region = PixelRect{viewport.x + region.x, viewport.y + region.y, region.width, region.height};
+    m.volumes = volumes;
+    m.appends.clear();
+    m.timing = timing;
+    m.stats = MediumStats{};
+    m.stats.pixels = std::size_t(region.width) * std::size_t(region.height);
+    m.heads = m.stats.pixels;
+    gl::StateGuard guard;
+    m.reserve(std::max(m.wanted, std::max<std::size_t>(4 * m.heads, 1 << 16)));
+    m.clear_lists();
+    m.upload_tables();
+    m.set_resolve_uniforms();
+    m.begun = true;
+    m.stats.cpu_ms += ms_since(start);
+}
+
+void MediumCompositor::Impl::draw_append(const Append& a) {
+    const GLuint p = append_program.id();
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(region.x, region.y, region.width, region.height);
+    glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListsBinding, lists.id());
+    // The projector's viewport origin is 0: gl_FragCoord already counts from the framebuffer's
+    // corner, where the scene depth's texels are.
+    const GLsizei vertices =
+        ProjectorAccess::bind(*a.renderer, p, a.local_camera, Viewport{0, 0, viewport.width, viewport.height}, a.scene_depth);
+    glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
+    glProgramUniform1ui(p, kVolume, GLuint(a.volume));
+    glProgramUniform1ui(p, kCapacity, GLuint(capacity));
+    glUseProgram(p);
+    glBindVertexArray(vao.id());
+    if (vertices > 0) glDrawArrays(GL_TRIANGLES, 0, vertices);
+    FX_GL_CHECK("medium append");
+}
+
+void MediumCompositor::append(CellRenderer& renderer, const Camera& local_camera, std::size_t volume, unsigned scene_depth) {
+    Impl& m = *impl_;
+    if (!m.begun) throw Error("medium: append() before begin()");
+    if (volume >= m.volumes.size())
+        throw Error("medium: volume " + std::to_string(volume) + " of " + std::to_string(m.volumes.size()));
+    const auto start = Clock::now();
+    m.appends.push_back({&renderer, local_camera, volume, scene_depth});
+    gl::StateGuard guard;
+    gl::StateGuard::set_render_defaults();
+    m.timed_begin();
+    m.draw_append(m.appends.back());
+    m.timed_end();
+    ++m.stats.volumes;
+    m.stats.cpu_ms += ms_since(start);
+}
+
+MediumStats MediumCompositor::resolve(unsigned behind_texture) {
+    Impl& m = *impl_;
+    if (!m.begun) throw Error("medium: resolve() before begin()");
+    const auto start = Clock::now();
+    gl::StateGuard guard;
+    gl::StateGuard::set_render_defaults();
+    // The pool must hold every segment: read the count back, and append again with a larger
+    // pool if it overflowed (a few times at most: each round holds all that was counted).
+    for (;;) {
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        GLuint count = 0;
+        glGetNamedBufferSubData(m.lists.id(), 0, sizeof count, &count);
+        m.stats.segments = count;
+        if (count <= m.capacity) break;
+        if (m.capacity >= kMaxCapacity)
+            throw Error("medium: " + std::to_string(count) + " segments in the region exceed the pool's limit of " +
+                        std::to_string(kMaxCapacity));
+        m.wanted = std::size_t(count) + count / 4;
+        m.reserve(m.wanted);
+        m.clear_lists();
+        ++m.stats.redraws;
+        m.timed_begin();
+        for (const Impl::Append& a : m.appends) m.draw_append(a);
+        m.timed_end();
+        gl::StateGuard::set_render_defaults();
+    }
+    m.stats.capacity = m.capacity;
+
+    m.timed_begin();
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(m.region.x, m.region.y, m.region.width, m.region.height);
+    glViewportIndexedf(0, float(m.viewport.x), float(m.viewport.y), float(m.viewport.width), float(m.viewport.height));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListsBinding, m.lists.id());
+    glBindTextureUnit(kTablesUnit, m.tables.id());
+    glBindSampler(kTablesUnit, 0);
+    glBindTextureUnit(kBehindUnit, behind_texture);
+    glBindSampler(kBehindUnit, 0);
+    glUseProgram(m.resolve_program.id());
+    glBindVertexArray(m.vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    FX_GL_CHECK("medium resolve");
+    m.timed_end();
+    m.begun = false;
+    m.stats.cpu_ms += ms_since(start);
+    return m.stats;
+}
+
+} // namespace fx

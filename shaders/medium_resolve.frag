@@ -1,0 +1,314 @@
+#version 450 core
+// Based on: Wilhelms, Tarantino & Van Gelder 1995, §2.4 (integrate between consecutive
+// crossings, front to back) — the medium compositor's resolve (fx/medium_compositor.hpp): per
+// pixel of the region, the segments of every volume sorted by entry and swept in depth order;
+// each span between consecutive boundaries is integrated through the media inside it with
+// fx/medium.hpp's model (emission tables per volume, mixing, pieces of bounded optical depth,
+// single scattering of beams and point lights), then composited over the `behind` image.
+// Drawn as one full-screen triangle (fullscreen.vert) with the scissor on the region, blending
+// off: it replaces what the ordinary paths drew there.
+#include "medium_lists.glsl"
+
+const int kSorted = 128; // MediumCompositor::kSortedSegments
+const int kActive = 16;  // MediumCompositor::kActiveSegments
+const int kMaxVolumes = 32;
+const int kMaxPointLights = 8;
+const float kMaxPieceDepth = 0.25; // fx::kMaxPieceDepth
+
+// Texture unit 0: every volume's emission tables, rows 2v (cumulative E rgb, T = ∫σ a) and
+// 2v + 1 (c·σ rgb, σ a), 4096 samples each (fx::build_emission_table, as project.glsl's).
+layout(binding = 0) uniform sampler2D u_tables;
+layout(binding = 2) uniform sampler2D u_behind; // premultiplied, texel = gl_FragCoord
+
+// The pixel's ray in the eye-relative world frame (the eye at the origin).
+layout(location = 35) uniform vec3 u_forward;
+layout(location = 36) uniform vec3 u_right; // scaled: ndc.x · u_right is the offset (tan or half width)
+layout(location = 37) uniform vec3 u_up;
+layout(location = 38) uniform int u_ortho;
+layout(location = 39) uniform vec4 u_viewport; // x, y, width, height
+
+layout(location = 40) uniform vec4 u_table[kMaxVolumes];       // s_lo, s_hi, samples per unit s, samples
+layout(location = 72) uniform vec4 u_medium[kMaxVolumes];      // absorbs, albedo, beam (0/1), beam g
+layout(location = 104) uniform vec4 u_beam_origin[kMaxVolumes]; // lens (eye-relative), apex distance (0: parallel)
+layout(location = 136) uniform vec4 u_beam_axis[kMaxVolumes];   // unit axis, strength per scalar
+layout(location = 168) uniform vec4 u_beam_color[kMaxVolumes];  // rgb
+layout(location = 200) uniform int u_point_count;
+layout(location = 201) uniform vec4 u_point_position[kMaxPointLights]; // eye-relative, core radius r0
+layout(location = 209) uniform vec4 u_point_color[kMaxPointLights];    // rgb, radius R
+layout(location = 217) uniform float u_point_g[kMaxPointLights];
+
+layout(location = 0) in vec2 v_uv;
+layout(location = 0) out vec4 o_color;
+
+// ---- one volume's tables (project.glsl's functions, per volume) ------------------------------
+float table_x(int v, float s) { return (s - u_table[v].x) * u_table[v].z; }
+vec4 row_texel(int v, int row, int i) { return texelFetch(u_tables, ivec2(i, 2 * v + row), 0); }
+
+vec4 emission_at(int v, float s) {
+    int n = int(u_table[v].w);
+    float x = clamp(table_x(v, s), 0.0, float(n - 1));
+    int i = min(int(x), n - 2);
+    return mix(row_texel(v, 1, i), row_texel(v, 1, i + 1), x - float(i));
+}
+vec4 cumulative_at(int v, float s) {
+    int n = int(u_table[v].w);
+    float x = table_x(v, s);
+    if (x <= 0.0) return row_texel(v, 0, 0) + row_texel(v, 1, 0) * (s - u_table[v].x);
+    if (x >= float(n - 1)) return row_texel(v, 0, n - 1) + row_texel(v, 1, n - 1) * (s - u_table[v].y);
+    int i = int(x);
+    return mix(row_texel(v, 0, i), row_texel(v, 0, i + 1), x - float(i));
+}
+int table_cell(int v, float s) {
+    float x = table_x(v, s);
+    int n = int(u_table[v].w);
+    return x < 0.0 ? -1 : (x >= float(n - 1) ? n - 1 : int(x));
+}
+vec4 cell_slope(int v, int i) {
+    int n = int(u_table[v].w);
+    if (i < 0) return row_texel(v, 1, 0);
+    if (i >= n - 1) return row_texel(v, 1, n - 1);
+    return (row_texel(v, 0, i + 1) - row_texel(v, 0, i)) * u_table[v].z;
+}
+// Emission (rgb) and optical depth (a) of length l with the scalar linear from s_f to s_b
+// (project.glsl's segment_integral: no subtraction of nearly equal values).
+vec4 segment_integral(int v, float s_f, float s_b, float l) {
+    int cf = table_cell(v, s_f), cb = table_cell(v, s_b);
+    if (cf == cb) return cell_slope(v, cf) * l;
+    if (abs(cf - cb) == 1) {
+        int lower = min(cf, cb);
+        float x_lo = table_x(v, min(s_f, s_b)), x_hi = table_x(v, max(s_f, s_b));
+        float w = clamp((float(lower + 1) - x_lo) / max(x_hi - x_lo, 1e-30), 0.0, 1.0);
+        return (cell_slope(v, lower) * w + cell_slope(v, lower + 1) * (1.0 - w)) * l;
+    }
+    return (cumulative_at(v, s_b) - cumulative_at(v, s_f)) * (l / (s_b - s_f));
+}
+
+// ---- segments ---------------------------------------------------------------------------------
+float seg_t_in(uint i) { return uintBitsToFloat(medium_data[segment_base(i)]); }
+float seg_t_out(uint i) { return uintBitsToFloat(medium_data[segment_base(i) + 1u]); }
+uint seg_next(uint i) { return medium_data[segment_base(i) + 4u] >> kVolumeBits; } // index + 1, 0 = end
+int seg_volume(uint i) { return int(medium_data[segment_base(i) + 4u] & ((1u << kVolumeBits) - 1u)); }
+// The scalar of segment i at ray parameter t (linear along the segment).
+float seg_scalar(uint i, float t) {
+    uint b = segment_base(i);
+    float t0 = uintBitsToFloat(medium_data[b]), t1 = uintBitsToFloat(medium_data[b + 1u]);
+    float s0 = uintBitsToFloat(medium_data[b + 2u]), s1 = uintBitsToFloat(medium_data[b + 3u]);
+    float f = t1 > t0 ? clamp((t - t0) / (t1 - t0), 0.0, 1.0) : 0.0;
+    return mix(s0, s1, f);
+}
+
+// ---- lights --------------------------------------------------------------------------------
+// Henyey–Greenstein relative to isotropic scattering (fx::relative_phase): 4π·p.
+float relative_phase(float g, float mu) {
+    float d = max(1.0 + g * g - 2.0 * g * mu, 1e-6);
+    return (1.0 - g * g) / (d * sqrt(d));
+}
+
+vec3 g_origin, g_dir; // this pixel's ray
+
+// The direction a beam's light travels at x.
+vec3 beam_direction(int v, vec3 x) {
+    vec4 o = u_beam_origin[v];
+    vec3 axis = u_beam_axis[v].xyz;
+    return o.w > 0.0 ? normalize(x - (o.xyz - axis * o.w)) : axis;
+}
+// ∫ over [a, b] of σ_m · (beam k's strength) · p: both linear in t across the span, the phase
+// slowly varying: Simpson's rule on the three (exact for the linear product, to the phase's
+// curvature otherwise).
+float beam_scatter(int vk, uint k, int vm, uint m, float a, float b) {
+    float strength = u_beam_axis[vk].w;
+    float g = u_medium[vk].w;
+    float sum = 0.0;
+    for (int j = 0; j < 3; ++j) {
+        float t = mix(a, b, 0.5 * float(j));
+        vec3 x = g_origin + g_dir * t;
+        float sigma = emission_at(vm, seg_scalar(m, t)).a;
+        float light = max(seg_scalar(k, t), 0.0) * strength;
+        float p = relative_phase(g, dot(beam_direction(vk, x), -g_dir));
+        sum += (j == 1 ? 4.0 : 1.0) * sigma * light * p;
+    }
+    return sum * (b - a) / 6.0;
+}
+// ∫ over [a, b] of a point light's falloff r0²/(r0² + r²)·(1 − r²/R²)² in closed form; σ and
+// the phase taken at the span's point nearest the light (the falloff's weight is there).
+// Returns the integral in .x and that nearest t in .y.
+vec2 point_falloff_integral(int l, float a, float b) {
+    vec3 c = u_point_position[l].xyz;
+    float r0 = u_point_position[l].w, R = u_point_color[l].w;
+    float tc = dot(c - g_origin, g_dir);
+    vec3 closest = g_origin + g_dir * tc - c;
+    float h2 = dot(closest, closest);
+    if (h2 >= R * R) return vec2(0.0, tc);
+    float w = sqrt(R * R - h2);
+    float u0 = max(a, tc - w) - tc, u1 = min(b, tc + w) - tc;
+    if (!(u1 > u0)) return vec2(0.0, tc);
+    float q = r0 * r0 + h2, sq = sqrt(q), k = R * R + r0 * r0;
+    // f = r0²/R⁴ · (u² − (2w² + q) + (R² + r0²)²/(u² + q)), u = t − tc.
+    float integral = (u1 * u1 * u1 - u0 * u0 * u0) / 3.0 - (2.0 * w * w + q) * (u1 - u0) +
+                     k * k / sq * (atan(u1 / sq) - atan(u0 / sq));
+    return vec2(max(integral, 0.0) * r0 * r0 / (R * R * R * R), clamp(tc, a, b));
+}
+
+// ---- the sweep -------------------------------------------------------------------------------
+uint active_segment[kActive];
+float active_out[kActive];
+int active_count = 0;
+vec3 light_sum = vec3(0.0);
+float transmittance = 1.0;
+
+// Emission (rgb) and absorbing optical depth (a) of the media active over [a, b], scattering
+// included.
+vec4 span_media(float a, float b) {
+    float l = b - a;
+    vec3 e = vec3(0.0);
+    float tau = 0.0;
+    for (int i = 0; i < active_count; ++i) {
+        uint k = active_segment[i];
+        int v = seg_volume(k);
+        vec4 m = segment_integral(v, seg_scalar(k, a), seg_scalar(k, b), l);
+        e += m.rgb;
+        if (u_medium[v].x > 0.5) tau += m.a;
+    }
+    // Single scattering: beams of the active volumes and every point light, into the active
+    // absorbing media with an albedo.
+    for (int i = 0; i < active_count; ++i) {
+        uint m = active_segment[i];
+        int vm = seg_volume(m);
+        float albedo = u_medium[vm].y;
+        if (!(u_medium[vm].x > 0.5 && albedo > 0.0)) continue;
+        for (int j = 0; j < active_count; ++j) {
+            uint k = active_segment[j];
+            int vk = seg_volume(k);
+            if (j == i || u_medium[vk].z < 0.5) continue;
+            e += albedo * u_beam_color[vk].rgb * beam_scatter(vk, k, vm, m, a, b);
+        }
+        for (int p = 0; p < u_point_count; ++p) {
+            vec2 f = point_falloff_integral(p, a, b);
+            if (!(f.x > 0.0)) continue;
+            float sigma = emission_at(vm, seg_scalar(m, f.y)).a;
+            vec3 x = g_origin + g_dir * f.y;
+            vec3 to_x = x - u_point_position[p].xyz;
+            float mu = length(to_x) > 0.0 ? dot(normalize(to_x), -g_dir) : 1.0;
+            e += albedo * sigma * f.x * relative_phase(u_point_g[p], mu) * u_point_color[p].rgb;
+        }
+    }
+    return vec4(e, tau);
+}
+
+void composite(vec4 m) {
+    float tau = m.a;
+    // (1 − e^−τ)/τ without cancellation for small τ.
+    float g = tau < 1e-3 ? 1.0 - tau * (0.5 - tau / 6.0) : (1.0 - exp(-tau)) / tau;
+    light_sum += transmittance * m.rgb * g;
+    transmittance *= exp(-tau);
+}
+
+void integrate(float a, float b) {
+    if (!(b > a)) return;
+    vec4 m = span_media(a, b);
+    if (m.a <= kMaxPieceDepth) {
+        composite(m);
+        return;
+    }
+    // Optically thick: pieces of depth ≤ kMaxPieceDepth (where colour varies inside the span).
+    int pieces = min(int(ceil(m.a / kMaxPieceDepth)), 64);
+    for (int p = 0; p < pieces; ++p)
+        composite(span_media(mix(a, b, float(p) / float(pieces)), mix(a, b, float(p + 1) / float(pieces))));
+}
+
+// Pending segments in order of entry: a sorted local array, or (lists longer than kSorted)
+// repeated selection of the next (t_in, index) over the whole list.
+float sorted_t[kSorted];
+uint sorted_index[kSorted];
+int sorted_count = 0, cursor = 0;
+bool selecting = false;
+uint head = 0u;
+float last_t = -3.4e38;
+uint last_index = 0u;
+
+bool next_segment(out uint index, out float t_in) {
+    if (!selecting) {
+        if (cursor >= sorted_count) return false;
+        index = sorted_index[cursor], t_in = sorted_t[cursor];
+        ++cursor;
+        return true;
+    }
+    bool found = false;
+    for (uint it = head; it != 0u; it = seg_next(it - 1u)) {
+        uint i = it - 1u;
+        float t = seg_t_in(i);
+        bool after = t > last_t || (t == last_t && i > last_index);
+        if (after && (!found || t < t_in || (t == t_in && i < index))) index = i, t_in = t, found = true;
+    }
+    if (found) last_t = t_in, last_index = index;
+    return found;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    head = medium_data[region_pixel(p)];
+    vec4 behind = texelFetch(u_behind, p, 0);
+    if (head == 0u) {
+        o_color = behind;
+        return;
+    }
+    // The pixel's ray, as pixel_ray() in project.glsl: from the eye (perspective) or the eye plane.
+    vec2 ndc = (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0 - 1.0;
+    if (u_ortho != 0) {
+        g_origin = ndc.x * u_right + ndc.y * u_up;
+        g_dir = u_forward;
+    } else {
+        g_origin = vec3(0.0);
+        g_dir = normalize(u_forward + ndc.x * u_right + ndc.y * u_up);
+    }
+
+    for (uint it = head; it != 0u; it = seg_next(it - 1u)) {
+        if (sorted_count == kSorted) {
+            selecting = true;
+            break;
+        }
+        uint i = it - 1u;
+        float t = seg_t_in(i);
+        int j = sorted_count++;
+        for (; j > 0 && (sorted_t[j - 1] > t || (sorted_t[j - 1] == t && sorted_index[j - 1] > i)); --j) {
+            sorted_t[j] = sorted_t[j - 1];
+            sorted_index[j] = sorted_index[j - 1];
+        }
+        sorted_t[j] = t;
+        sorted_index[j] = i;
+    }
+
+    uint pending;
+    float pending_t;
+    bool has_pending = next_segment(pending, pending_t);
+    float t = has_pending ? pending_t : 0.0;
+    while (transmittance > 1e-7) {
+        // Segments starting here join the active set.
+        while (has_pending && pending_t <= t) {
+            if (seg_t_out(pending) > t && active_count < kActive) {
+                active_segment[active_count] = pending;
+                active_out[active_count] = seg_t_out(pending);
+                ++active_count;
+            }
+            has_pending = next_segment(pending, pending_t);
+        }
+        if (active_count == 0) {
+            if (!has_pending) break;
+            t = pending_t;
+            continue;
+        }
+        float t_next = has_pending ? pending_t : 3.4e38;
+        for (int i = 0; i < active_count; ++i) t_next = min(t_next, active_out[i]);
+        integrate(t, t_next);
+        t = t_next;
+        for (int i = active_count - 1; i >= 0; --i) {
+            if (active_out[i] <= t) {
+                --active_count;
+                active_segment[i] = active_segment[active_count];
+                active_out[i] = active_out[active_count];
+            }
+        }
+    }
+    // The volumes (premultiplied: light_sum, 1 − transmittance) over what lies behind them.
+    o_color = vec4(light_sum + transmittance * behind.rgb, 1.0 - transmittance + transmittance * behind.a);
+}

@@ -1,0 +1,71 @@
+// Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (intersecting grids). The scan-line
+// reference of a scene's frame (terrain/scene_reference.hpp).
+#include "terrain/scene_reference.hpp"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "fx/scanline_renderer.hpp"
+
+namespace terrain {
+
+namespace {
+
+// Appends the effect's mesh, moved into the world, to `out` (its blocks stay blocks; one
+// scalar field, the effect's). Returns the number of blocks added.
+std::size_t append_world_mesh(const fx::Effect& effect, fx::CellMesh& out) {
+    const fx::CellMesh& mesh = effect.mesh();
+    const glm::dmat4& m = effect.transform();
+    const std::uint32_t base = std::uint32_t(out.points.size());
+    for (const glm::dvec3& p : mesh.points) out.points.push_back(glm::dvec3(m * glm::dvec4(p, 1.0)));
+    if (out.scalars.empty()) out.scalars.push_back({"scalar", {}});
+    const fx::ScalarField* field = mesh.find_scalar(effect.scalar_name());
+    std::vector<float>& values = out.scalars[0].values;
+    for (std::size_t i = 0; i < mesh.point_count(); ++i) values.push_back(field ? field->values[i] : 0.0f);
+    std::uint32_t v[fx::kMaxCellVertices];
+    for (const fx::Block& b : mesh.blocks) {
+        out.begin_block(b.name);
+        for (std::uint32_t c = b.first_cell; c < b.first_cell + b.cell_count; ++c) {
+            const int n = fx::cell_vertex_count(mesh.cell_types[c]);
+            for (int k = 0; k < n; ++k) v[k] = mesh.cell_vertices(c)[k] + base;
+            out.add_cell(mesh.cell_types[c], v);
+        }
+    }
+    return mesh.blocks.size();
+}
+
+} // namespace
+
+fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera& camera, int width, int height,
+                                 unsigned threads) {
+    fx::Image image(width, height, glm::vec4(0.0f));
+    fx::CellMesh medium_mesh;
+    std::vector<fx::MediumVolume> media;
+    fx::ScanlineOptions options;
+    options.threads = threads;
+    for (const SceneRenderer::DrawnVolume& v : renderer.drawn_volumes()) {
+        if (v.in_medium) {
+            const std::size_t blocks = append_world_mesh(*v.effect, medium_mesh);
+            media.insert(media.end(), blocks, v.medium);
+            continue;
+        }
+        // pcp (emission) and mip (maximum) effects: their own model, added as the renderer adds them.
+        fx::CellMesh world;
+        append_world_mesh(*v.effect, world);
+        fx::ScanlineOptions own = options;
+        own.model = v.path == fx::RenderPath::Mip ? fx::OpticalModel::Maximum : fx::OpticalModel::Emission;
+        const fx::Image layer = fx::ScanlineRenderer(world).render(camera, width, height, world.scalars[0], v.medium.tf, own);
+        for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += glm::vec4(glm::vec3(layer.pixels[i]), 0.0f);
+    }
+    if (medium_mesh.cell_count() > 0) {
+        const fx::Medium medium(media);
+        options.medium = &medium;
+        const fx::Image volumes = fx::ScanlineRenderer(medium_mesh)
+                                      .render(camera, width, height, medium_mesh.scalars[0], fx::TransferFunction(), options);
+        // The additive effects lie over the medium: medium first, then their light.
+        for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += volumes.pixels[i];
+    }
+    return image;
+}
+
+} // namespace terrain

@@ -1,0 +1,209 @@
+// One medium per scene (fx/medium.hpp, fx/medium_compositor.hpp, terrain's scene renderer):
+// an emissive box behind, inside and in front of an absorbing box against the closed form — from
+// the command line as a user renders it, for every path of the emission–absorption model and
+// the scan-line reference — whole frames against the scan-line reference of intersecting grids,
+// the mixing and scattering model on the CPU, and that a scene whose volumes do not overlap on
+// screen does no more work than before.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include "fx/headless_context.hpp"
+#include "fx/image.hpp"
+#include "fx/medium.hpp"
+#include "terrain/scene.hpp"
+#include "terrain/scene_reference.hpp"
+#include "terrain/scene_renderer.hpp"
+#include "test_effects_support.hpp"
+#include "test_paths.hpp"
+
+namespace {
+
+const glm::dvec3 kGlowColor{1.0, 0.6, 0.2}, kFogColor{0.3, 0.35, 0.4};
+constexpr double kGlowSigma = 2.0, kFogSigma = 1.5; // per metre; both boxes 1 m deep along the centre ray
+
+// A homogeneous slab of colour c and extinction σ, length l: its radiance c·(1 − e^(−σl)) and
+// transmittance e^(−σl).
+glm::dvec3 slab(const glm::dvec3& c, double sigma, double l) { return c * -std::expm1(-sigma * l); }
+double through(double sigma, double l) { return std::exp(-sigma * l); }
+
+// The centre pixel of tests/data/medium/*.json over black, in closed form.
+glm::dvec3 closed_form(const std::string& name) {
+    const glm::dvec3 glow = slab(kGlowColor, kGlowSigma, 1.0), fog = slab(kFogColor, kFogSigma, 1.0);
+    if (name == "emission_behind_fog") return glow * through(kFogSigma, 1.0) + fog; // E·e^(−τ) + c·(1 − e^(−τ))
+    if (name == "emission_in_front_of_fog") return glow + through(kGlowSigma, 1.0) * fog;
+    // inside: 1 m of fog, 1 m of the two media mixed (σ and emission add), 1 m of fog.
+    const double sigma = kGlowSigma + kFogSigma;
+    const glm::dvec3 mixed = slab((kGlowColor * kGlowSigma + kFogColor * kFogSigma) / sigma, sigma, 1.0);
+    return fog + through(kFogSigma, 1.0) * (mixed + through(sigma, 1.0) * fog);
+}
+
+std::string scene_file(const std::string& name) { return fx_test::source_path("tests/data/medium/" + name + ".json"); }
+
+// Renders a scene with every effect on `path` (or the scan-line reference for "scanline"),
+// through the same classes the command line uses, over the scene's background.
+fx::Image render_scene(const std::string& file, const std::string& path, int size, terrain::FrameStats* stats = nullptr) {
+    fx_test::gl_context();
+    terrain::Scene scene = terrain::load_scene(file);
+    terrain::SceneRenderer renderer(scene);
+    if (path == "scanline") {
+        renderer.update(0.0, scene.camera, size, size);
+        fx::Image image = terrain::render_scene_reference(renderer, scene.camera, size, size);
+        fx::composite_over(image, glm::vec3(scene.background));
+        return image;
+    }
+    fx::RenderPath p;
+    REQUIRE(fx::parse_render_path(path, p));
+    for (const std::string& name : renderer.effect_names()) renderer.set_path(name, p);
+    fx::Image image = renderer.render_to_image(scene.camera, size, size, stats);
+    fx_test::require_no_gl_error();
+    return image;
+}
+
+glm::dvec3 centre(const fx::Image& image) { return glm::dvec3(image.at(image.width / 2, image.height / 2)); }
+
+void check_closed_form(const glm::dvec3& actual, const glm::dvec3& expected, const std::string& what) {
+    INFO(what << ": actual (" << actual.r << ", " << actual.g << ", " << actual.b << "), closed form (" << expected.r << ", "
+              << expected.g << ", " << expected.b << ")");
+    // Both media are constant, so every path integrates them exactly: what is left is float32
+    // (tables, GPU arithmetic) against double — measured ≤ 2e-6 relative; 2e-5 allows for drivers.
+    for (int c = 0; c < 3; ++c) CHECK(actual[c] == Approx(expected[c]).epsilon(2e-5));
+}
+
+} // namespace
+
+TEST_CASE("Emission behind a box of fog, from the command line: E·e^(−τ) + c·(1 − e^(−τ)) on every path of the model",
+          "[gl][medium][cli]") {
+    const glm::dvec3 expected = closed_form("emission_behind_fog");
+    for (const char* path : {"scanline", "pcp-exact", "absorption", "absorption-exact"}) {
+        const std::string out = fx_test::output_path(std::string("medium_behind_") + path + ".pfm");
+        const std::string command = std::string("'") + CELLFX_CLI + "' render '" + scene_file("emission_behind_fog") +
+                                    "' --path " + path + " --out '" + out + "' > '" + out + ".log' 2>&1";
+        INFO(command);
+        REQUIRE(std::system(command.c_str()) == 0);
+        const fx::Image image = fx::read_pfm(out);
+        REQUIRE(image.width == 65);
+        check_closed_form(centre(image), expected, path);
+    }
+}
+
+TEST_CASE("Emission inside and in front of fog: the closed forms on every path of the model", "[gl][medium]") {
+    for (const char* name : {"emission_inside_fog", "emission_in_front_of_fog"}) {
+        const glm::dvec3 expected = closed_form(name);
+        for (const char* path : {"scanline", "pcp-exact", "absorption", "absorption-exact"})
+            check_closed_form(centre(render_scene(scene_file(name), path, 65)), expected, std::string(name) + " " + path);
+    }
+}
+
+TEST_CASE("The compositor's frames equal the scan-line reference of intersecting grids", "[gl][medium]") {
+    for (const char* name : {"emission_behind_fog", "emission_inside_fog", "emission_in_front_of_fog"}) {
+        const fx::Image reference = render_scene(scene_file(name), "scanline", 96);
+        for (fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::AbsorptionExact}) {
+            terrain::FrameStats stats;
+            const fx::Image actual = render_scene(scene_file(name), fx::render_path_name(path), 96, &stats);
+            CHECK(stats.medium.pixels > 0); // the boxes overlap on screen: integrated together
+            // Outside the region each box is drawn by its own path: the tolerances of those
+            // paths against the same reference (test_effects_support.hpp).
+            effects_test::check_frame(std::string("medium_") + name, actual, reference, path, 2);
+        }
+    }
+}
+
+TEST_CASE("Volumes that do not overlap on screen cost nothing more: no region, each drawn by its own path",
+          "[gl][medium]") {
+    fx_test::gl_context();
+    terrain::Scene scene = terrain::load_scene(scene_file("emission_behind_fog"));
+    // The fog box moved aside, still in view: the two no longer share a pixel.
+    std::get<fx::VolumeParams>(scene.effects[1].params).position = {2.0, 0.0, 0.0};
+    terrain::SceneRenderer renderer(scene);
+    terrain::FrameStats stats;
+    renderer.render_to_image(scene.camera, 96, 96, &stats);
+    INFO(stats.summary());
+    CHECK(stats.medium.pixels == 0);
+    CHECK(stats.medium.segments == 0);
+    for (const terrain::EffectFrameStats& e : stats.effects) {
+        CHECK(e.status == terrain::EffectStatus::Simulated);
+        CHECK_FALSE(e.in_medium);
+    }
+
+    // Overlapping: the glow lies wholly inside the region, so it is drawn there only.
+    terrain::SceneRenderer overlapping(terrain::load_scene(scene_file("emission_behind_fog")));
+    overlapping.render_to_image(scene.camera, 96, 96, &stats);
+    CHECK(stats.medium.pixels > 0);
+    CHECK(stats.medium.pixels < 96u * 96u / 2u); // the glow's rectangle, not the frame
+    CHECK(stats.find("glow")->in_medium);
+    CHECK(stats.find("glow")->render.draw_calls == 0); // its own path was not run
+    CHECK(stats.find("fog")->in_medium);
+    CHECK(stats.find("fog")->render.draw_calls > 0); // the fog outside the region is
+}
+
+TEST_CASE("Medium spans: one volume alone is its exact integral, media mix, emission-only media do not absorb",
+          "[medium]") {
+    const fx::TransferFunction glow = fx::TransferFunction::constant(kGlowColor, kGlowSigma);
+    const fx::TransferFunction fog = fx::TransferFunction::constant(kFogColor, kFogSigma);
+    fx::MediumVolume a{glow, true, 0.0, {}}, b{fog, true, 0.0, {}}, c{glow, false, 0.0, {}};
+    const fx::Medium medium({a, b, c});
+    fx::RaySpan span;
+    span.t_front = 2.0, span.t_back = 2.7;
+    const fx::SpanVolume only_a{0, 0.3, 0.9};
+    const fx::SegmentColor one = medium.integrate_span(&only_a, 1, span);
+    const fx::SegmentColor exact = fx::emission_absorption(glow, 0.3, 0.9, 0.7);
+    CHECK(one.alpha == Approx(exact.alpha));
+    CHECK(one.color.r == Approx(exact.color.r));
+
+    // Two homogeneous media over one span: σ and emission add.
+    const fx::SpanVolume both[2] = {{0, 0.0, 1.0}, {1, 0.5, 0.5}};
+    const fx::SegmentColor mixed = medium.integrate_span(both, 2, span);
+    const double sigma = kGlowSigma + kFogSigma;
+    const glm::dvec3 expected = slab((kGlowColor * kGlowSigma + kFogColor * kFogSigma) / sigma, sigma, 0.7);
+    CHECK(mixed.alpha == Approx(-std::expm1(-sigma * 0.7)));
+    for (int k = 0; k < 3; ++k) CHECK(mixed.color[k] == Approx(expected[k]).epsilon(1e-9));
+    CHECK(mixed.optical_depth == Approx(sigma * 0.7));
+
+    // An emission-only medium adds its light, dimmed by the other over the span, and absorbs nothing.
+    const fx::SpanVolume glow_in_fog[2] = {{2, 0.0, 1.0}, {1, 0.5, 0.5}};
+    const fx::SegmentColor lit = medium.integrate_span(glow_in_fog, 2, span);
+    const double tau = kFogSigma * 0.7;
+    const glm::dvec3 want = (kGlowColor * kGlowSigma + kFogColor * kFogSigma) * (-std::expm1(-tau) / kFogSigma);
+    CHECK(lit.alpha == Approx(-std::expm1(-tau)));
+    for (int k = 0; k < 3; ++k) CHECK(lit.color[k] == Approx(want[k]).epsilon(1e-9));
+}
+
+TEST_CASE("Medium spans: a beam scatters in proportion to the medium's density, with the phase function",
+          "[medium]") {
+    // A parallel beam along +x of constant strength 1 crossing a homogeneous fog; the eye looks
+    // along +y, so θ = 90° everywhere: the fog glows ρ·σ·L·4π·p(0) per unit length, dimmed by itself.
+    const double rho = 0.8, g = 0.4;
+    fx::MediumLight beam;
+    beam.kind = fx::MediumLight::Kind::Beam;
+    beam.axis = {1, 0, 0};
+    beam.color = glm::dvec3(2.0, 1.5, 1.0);
+    beam.phase_g = g;
+    beam.strength_per_scalar = 1.0;
+    const fx::TransferFunction air = fx::TransferFunction::constant(glm::dvec3(0.0), 1e-9); // carries the light only
+    for (double sigma : {0.05, 0.5, 3.0}) {
+        const fx::TransferFunction fog = fx::TransferFunction::constant(glm::dvec3(0.0), sigma);
+        const fx::Medium medium({fx::MediumVolume{air, false, 0.0, beam}, fx::MediumVolume{fog, true, rho, {}}});
+        fx::RaySpan span;
+        span.dir = {0, 1, 0};
+        span.t_front = 1.0, span.t_back = 3.0;
+        const fx::SpanVolume in[2] = {{0, 1.0, 1.0}, {1, 0.0, 0.0}};
+        const fx::SegmentColor c = medium.integrate_span(in, 2, span);
+        const double p = fx::relative_phase(g, 0.0);
+        const glm::dvec3 expected = rho * p * beam.color * -std::expm1(-sigma * 2.0); // ρσL·4πp·(1 − e^(−σl))/σ
+        INFO("sigma " << sigma);
+        for (int k = 0; k < 3; ++k) CHECK(c.color[k] == Approx(expected[k]).epsilon(1e-6));
+    }
+    // Henyey–Greenstein integrates to 1 over the sphere and favours the forward direction.
+    double integral = 0.0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        const double mu = -1.0 + (i + 0.5) * 2.0 / n;
+        integral += 2.0 * M_PI * fx::henyey_greenstein(0.7, mu) * 2.0 / n;
+    }
+    CHECK(integral == Approx(1.0).epsilon(1e-4));
+    CHECK(fx::henyey_greenstein(0.0, 0.3) == Approx(1.0 / (4.0 * M_PI)));
+    CHECK(fx::henyey_greenstein(0.6, 1.0) > 10.0 * fx::henyey_greenstein(0.6, -1.0));
+}
