@@ -112,41 +112,61 @@ vec3 beam_direction(int v, vec3 x) {
     vec3 axis = u_beam_axis[v].xyz;
     return o.w > 0.0 ? normalize(x - (o.xyz - axis * o.w)) : axis;
 }
-// ∫ over [a, b] of σ_m · (beam k's strength) · p: both linear in t across the span, the phase
-// slowly varying: Simpson's rule on the three (exact for the linear product, to the phase's
-// curvature otherwise).
-float beam_scatter(int vk, uint k, int vm, uint m, float a, float b) {
+// ∫ over [a, b] of σ_m · (beam k's strength) · p, dimmed by the span's own optical depth `tau`
+// from a to t (spread evenly): σ and the strength linear in t across the span, the phase and the
+// dimming slowly varying: Simpson's rule (exact for the linear product).
+float beam_scatter(int vk, uint k, int vm, uint m, float a, float b, float tau) {
     float strength = u_beam_axis[vk].w;
     float g = u_medium[vk].w;
     float sum = 0.0;
     for (int j = 0; j < 3; ++j) {
-        float t = mix(a, b, 0.5 * float(j));
+        float f = 0.5 * float(j);
+        float t = mix(a, b, f);
         vec3 x = g_origin + g_dir * t;
         float sigma = emission_at(vm, seg_scalar(m, t)).a;
         float light = max(seg_scalar(k, t), 0.0) * strength;
         float p = relative_phase(g, dot(beam_direction(vk, x), -g_dir));
-        sum += (j == 1 ? 4.0 : 1.0) * sigma * light * p;
+        sum += (j == 1 ? 4.0 : 1.0) * sigma * light * p * exp(-tau * f);
     }
     return sum * (b - a) / 6.0;
 }
-// ∫ over [a, b] of a point light's falloff r0²/(r0² + r²)·(1 − r²/R²)² in closed form; σ and
-// the phase taken at the span's point nearest the light (the falloff's weight is there).
-// Returns the integral in .x and that nearest t in .y.
-vec2 point_falloff_integral(int l, float a, float b) {
+// Light scattered towards the eye over [a, b] by point light l in the absorbing medium of
+// segment m (volume vm): ∫ σ_m(t) · r0²/(r0² + r²)(1 − r²/R²)² · 4π·p(μ) dt. With u = t − t_c
+// (t_c nearest the light, h its distance) substituted by u = √q·tan φ, q = r0² + h², the
+// falloff's inverse-square part becomes constant in φ and what is left is smooth, except that
+// the phase turns from forward to backward over |u| ≲ h: 4-point Gauss–Legendre in φ on
+// |u| < 3h and beyond, on each side of t_c.
+const float kGaussX[4] = float[4](-0.861136312, -0.339981044, 0.339981044, 0.861136312);
+const float kGaussW[4] = float[4](0.347854845, 0.652145155, 0.652145155, 0.347854845);
+float point_light_scatter(int l, uint m, int vm, float a, float b, float tau) {
     vec3 c = u_point_position[l].xyz;
     float r0 = u_point_position[l].w, R = u_point_color[l].w;
     float tc = dot(c - g_origin, g_dir);
     vec3 closest = g_origin + g_dir * tc - c;
     float h2 = dot(closest, closest);
-    if (h2 >= R * R) return vec2(0.0, tc);
-    float w = sqrt(R * R - h2);
+    if (h2 >= R * R) return 0.0;
+    float w2 = R * R - h2, w = sqrt(w2);
     float u0 = max(a, tc - w) - tc, u1 = min(b, tc + w) - tc;
-    if (!(u1 > u0)) return vec2(0.0, tc);
-    float q = r0 * r0 + h2, sq = sqrt(q), k = R * R + r0 * r0;
-    // f = r0²/R⁴ · (u² − (2w² + q) + (R² + r0²)²/(u² + q)), u = t − tc.
-    float integral = (u1 * u1 * u1 - u0 * u0 * u0) / 3.0 - (2.0 * w * w + q) * (u1 - u0) +
-                     k * k / sq * (atan(u1 / sq) - atan(u0 / sq));
-    return vec2(max(integral, 0.0) * r0 * r0 / (R * R * R * R), clamp(tc, a, b));
+    if (!(u1 > u0)) return 0.0;
+    float q = r0 * r0 + h2, sq = sqrt(q), turn = 3.0 * sqrt(h2);
+    float g = u_point_g[l];
+    // The pieces' ends in u: [u0, −turn, 0, turn, u1], each clamped to [u0, u1].
+    float ends[5] = float[5](u0, clamp(-turn, u0, u1), clamp(0.0, u0, u1), clamp(turn, u0, u1), u1);
+    float sum = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        if (!(ends[k + 1] > ends[k])) continue;
+        float p0 = atan(ends[k] / sq), p1 = atan(ends[k + 1] / sq);
+        for (int j = 0; j < 4; ++j) {
+            float u = sq * tan(mix(p0, p1, 0.5 + 0.5 * kGaussX[j]));
+            float window = max(w2 - u * u, 0.0) / (R * R);
+            float mu = -u / sqrt(h2 + u * u + 1e-30); // the light's direction · back to the eye
+            float sigma = emission_at(vm, seg_scalar(m, tc + u)).a;
+            // f·du/dφ = r0²/(q + u²)·window²·(q + u²)/√q
+            float dim = exp(-tau * clamp((tc + u - a) / (b - a), 0.0, 1.0));
+            sum += kGaussW[j] * 0.5 * (p1 - p0) * sigma * window * window * relative_phase(g, mu) * dim;
+        }
+    }
+    return sum * r0 * r0 / sq;
 }
 
 // ---- the sweep -------------------------------------------------------------------------------
@@ -155,10 +175,10 @@ float active_out[kActive];
 int active_count = 0;
 vec3 light_sum = vec3(0.0);
 float transmittance = 1.0;
-
-// Emission (rgb) and absorbing optical depth (a) of the media active over [a, b], scattering
-// included.
-vec4 span_media(float a, float b) {
+// Emission (rgb) and absorbing optical depth (a) of the media active over [a, b]; in `light`
+// the light the active absorbing media scatter towards the eye from the beams among them and
+// every point light, already dimmed by the span's own depth from a to where it is scattered.
+vec4 span_media(float a, float b, out vec3 light) {
     float l = b - a;
     vec3 e = vec3(0.0);
     float tau = 0.0;
@@ -169,8 +189,7 @@ vec4 span_media(float a, float b) {
         e += m.rgb;
         if (u_medium[v].x > 0.5) tau += m.a;
     }
-    // Single scattering: beams of the active volumes and every point light, into the active
-    // absorbing media with an albedo.
+    light = vec3(0.0);
     for (int i = 0; i < active_count; ++i) {
         uint m = active_segment[i];
         int vm = seg_volume(m);
@@ -180,40 +199,37 @@ vec4 span_media(float a, float b) {
             uint k = active_segment[j];
             int vk = seg_volume(k);
             if (j == i || u_medium[vk].z < 0.5) continue;
-            e += albedo * u_beam_color[vk].rgb * beam_scatter(vk, k, vm, m, a, b);
+            light += albedo * u_beam_color[vk].rgb * beam_scatter(vk, k, vm, m, a, b, tau);
         }
-        for (int p = 0; p < u_point_count; ++p) {
-            vec2 f = point_falloff_integral(p, a, b);
-            if (!(f.x > 0.0)) continue;
-            float sigma = emission_at(vm, seg_scalar(m, f.y)).a;
-            vec3 x = g_origin + g_dir * f.y;
-            vec3 to_x = x - u_point_position[p].xyz;
-            float mu = length(to_x) > 0.0 ? dot(normalize(to_x), -g_dir) : 1.0;
-            e += albedo * sigma * f.x * relative_phase(u_point_g[p], mu) * u_point_color[p].rgb;
-        }
+        for (int p = 0; p < u_point_count; ++p) light += albedo * point_light_scatter(p, m, vm, a, b, tau) * u_point_color[p].rgb;
     }
     return vec4(e, tau);
 }
 
-void composite(vec4 m) {
+// Front to back: the span's emission spread evenly through its absorption, its scattered light
+// (already dimmed inside it), then its transmittance.
+void composite(vec4 m, vec3 light) {
     float tau = m.a;
     // (1 − e^−τ)/τ without cancellation for small τ.
     float g = tau < 1e-3 ? 1.0 - tau * (0.5 - tau / 6.0) : (1.0 - exp(-tau)) / tau;
-    light_sum += transmittance * m.rgb * g;
+    light_sum += transmittance * (m.rgb * g + light);
     transmittance *= exp(-tau);
 }
 
 void integrate(float a, float b) {
     if (!(b > a)) return;
-    vec4 m = span_media(a, b);
+    vec3 light;
+    vec4 m = span_media(a, b, light);
     if (m.a <= kMaxPieceDepth) {
-        composite(m);
+        composite(m, light);
         return;
     }
     // Optically thick: pieces of depth ≤ kMaxPieceDepth (where colour varies inside the span).
     int pieces = min(int(ceil(m.a / kMaxPieceDepth)), 64);
-    for (int p = 0; p < pieces; ++p)
-        composite(span_media(mix(a, b, float(p) / float(pieces)), mix(a, b, float(p + 1) / float(pieces))));
+    for (int p = 0; p < pieces; ++p) {
+        m = span_media(mix(a, b, float(p) / float(pieces)), mix(a, b, float(p + 1) / float(pieces)), light);
+        composite(m, light);
+    }
 }
 
 // Pending segments in order of entry: a sorted local array, or (lists longer than kSorted)

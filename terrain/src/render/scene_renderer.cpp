@@ -108,6 +108,19 @@ fx::MediumVolume medium_volume(const Slot& s) {
     return v;
 }
 
+// What the effect can change on screen at `time`: its world bounds, and the reach of its glow
+// (a campfire off screen still lights the fog in view).
+fx::Bounds view_bounds(const Slot& s, double time) {
+    fx::Bounds b = s.effect->world_bounds(time);
+    const fx::MediumLight l = s.effect->medium_light();
+    if (l.kind != fx::MediumLight::Kind::Point || !(s.light.strength > 0.0) || !in_medium(s)) return b;
+    const glm::dvec3 centre(s.effect->transform_at(time) * glm::dvec4(l.origin, 1.0));
+    const double r = s.light.radius > 0.0 ? s.light.radius : l.radius;
+    b.lo = glm::min(b.lo, centre - r);
+    b.hi = glm::max(b.hi, centre + r);
+    return b;
+}
+
 std::string format_ms(double ms) {
     char b[32];
     std::snprintf(b, sizeof b, "%.1f", ms);
@@ -259,7 +272,7 @@ struct SceneRenderer::Impl {
                 s.stats.status = EffectStatus::Disabled;
                 continue;
             }
-            const fx::Bounds b = s.effect->world_bounds(time);
+            const fx::Bounds b = view_bounds(s, time);
             if (!fx::bounds_in_view(b, cam, aspect)) {
                 s.stats.status = EffectStatus::OutOfView;
                 continue;
