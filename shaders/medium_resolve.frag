@@ -1,33 +1,46 @@
 #version 450 core
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2.4 (integrate between consecutive
 // crossings, front to back) — the medium compositor's resolve (fx/medium_compositor.hpp): per
-// pixel of the region, the segments of every volume sorted by entry and swept in depth order;
-// each span between consecutive boundaries is integrated through the media inside it with
-// fx/medium.hpp's model (emission tables per volume, mixing, pieces of bounded optical depth,
-// single scattering of beams and point lights), then composited over the `behind` image.
+// pixel of the mask, the segments of every volume swept in depth order; each span between
+// consecutive boundaries is integrated through the media inside it with fx/medium.hpp's model
+// (emission tables per volume, mixing, pieces of bounded optical depth, single scattering of
+// beams and point lights), then composited over the `behind` image.
+//
+// The bulk volume (the ground fog: one colour, many segments per pixel) is not sorted: its
+// segments are integrated into the bins between the other volumes' boundaries, the chords of
+// the point lights and, between the first and last of those, its own segments' ends; inside a
+// bin it is a uniform medium of the bin's optical depth and emission. Exact where it is alone
+// (one colour); elsewhere its density is taken as even over each bin, which the bins keep short.
+//
 // Drawn as one full-screen triangle (fullscreen.vert) with the scissor on the region, blending
-// off: it replaces what the ordinary paths drew there.
+// off: it replaces what the ordinary paths drew where the mask is set, and leaves the rest.
 #include "medium_lists.glsl"
 
-const int kSorted = 128; // MediumCompositor::kSortedSegments
+const int kSorted = 96;  // MediumCompositor::kSortedSegments
 const int kActive = 16;  // MediumCompositor::kActiveSegments
 const int kMaxVolumes = 32;
 const int kMaxPointLights = 8;
+const int kBulkBounds = 64; // the bulk's own segment ends among the other volumes and chords
+const int kBounds = 2 * kSorted + 3 * kMaxPointLights + kBulkBounds; // bin boundaries
+const int kTableSize = 4096;
 const float kMaxPieceDepth = 0.25; // fx::kMaxPieceDepth
+const float kInfinity = 3.4e38;
 
 // Texture unit 0: every volume's emission tables, rows 2v (cumulative E rgb, T = ∫σ a) and
 // 2v + 1 (c·σ rgb, σ a), 4096 samples each (fx::build_emission_table, as project.glsl's).
 layout(binding = 0) uniform sampler2D u_tables;
+layout(binding = 1) uniform sampler2D u_mask;   // 1 where the medium is resolved (viewport texels)
 layout(binding = 2) uniform sampler2D u_behind; // premultiplied, texel = gl_FragCoord
 
+layout(location = 33) uniform int u_bulk; // the bulk volume, −1: none
 // The pixel's ray in the eye-relative world frame (the eye at the origin).
 layout(location = 35) uniform vec3 u_forward;
 layout(location = 36) uniform vec3 u_right; // scaled: ndc.x · u_right is the offset (tan or half width)
 layout(location = 37) uniform vec3 u_up;
 layout(location = 38) uniform int u_ortho;
-layout(location = 39) uniform vec4 u_viewport; // x, y, width, height
+layout(location = 39) uniform vec4 u_viewport; // x, y, width, height in the framebuffer
 
-layout(location = 40) uniform vec4 u_table[kMaxVolumes];       // s_lo, s_hi, samples per unit s, samples
+layout(location = 40) uniform vec4 u_table[kMaxVolumes];       // s_lo, s_hi, samples per unit s, colour varies (0/1)
 layout(location = 72) uniform vec4 u_medium[kMaxVolumes];      // absorbs, albedo, beam (0/1), beam g
 layout(location = 104) uniform vec4 u_beam_origin[kMaxVolumes]; // lens (eye-relative), apex distance (0: parallel)
 layout(location = 136) uniform vec4 u_beam_axis[kMaxVolumes];   // unit axis, strength per scalar
@@ -45,13 +58,13 @@ float table_x(int v, float s) { return (s - u_table[v].x) * u_table[v].z; }
 vec4 row_texel(int v, int row, int i) { return texelFetch(u_tables, ivec2(i, 2 * v + row), 0); }
 
 vec4 emission_at(int v, float s) {
-    int n = int(u_table[v].w);
+    int n = kTableSize;
     float x = clamp(table_x(v, s), 0.0, float(n - 1));
     int i = min(int(x), n - 2);
     return mix(row_texel(v, 1, i), row_texel(v, 1, i + 1), x - float(i));
 }
 vec4 cumulative_at(int v, float s) {
-    int n = int(u_table[v].w);
+    int n = kTableSize;
     float x = table_x(v, s);
     if (x <= 0.0) return row_texel(v, 0, 0) + row_texel(v, 1, 0) * (s - u_table[v].x);
     if (x >= float(n - 1)) return row_texel(v, 0, n - 1) + row_texel(v, 1, n - 1) * (s - u_table[v].y);
@@ -60,11 +73,11 @@ vec4 cumulative_at(int v, float s) {
 }
 int table_cell(int v, float s) {
     float x = table_x(v, s);
-    int n = int(u_table[v].w);
+    int n = kTableSize;
     return x < 0.0 ? -1 : (x >= float(n - 1) ? n - 1 : int(x));
 }
 vec4 cell_slope(int v, int i) {
-    int n = int(u_table[v].w);
+    int n = kTableSize;
     if (i < 0) return row_texel(v, 1, 0);
     if (i >= n - 1) return row_texel(v, 1, n - 1);
     return (row_texel(v, 0, i + 1) - row_texel(v, 0, i)) * u_table[v].z;
@@ -112,7 +125,14 @@ vec3 beam_direction(int v, vec3 x) {
     vec3 axis = u_beam_axis[v].xyz;
     return o.w > 0.0 ? normalize(x - (o.xyz - axis * o.w)) : axis;
 }
-// ∫ over [a, b] of σ_m · (beam k's strength) · p, dimmed by the span's own optical depth `tau`
+
+// A scattering medium over the current span: an active segment, or the bulk (kBulk) with the
+// bin's even extinction.
+const uint kBulk = 0xFFFFFFFFu;
+float bulk_sigma = 0.0;
+float medium_sigma(uint m, int vm, float t) { return m == kBulk ? bulk_sigma : emission_at(vm, seg_scalar(m, t)).a; }
+
+// ∫ over [a, b] of σ_m · (beam k's strength) · 4π·p, dimmed by the span's own optical depth `tau`
 // from a to t (spread evenly): σ and the strength linear in t across the span, the phase and the
 // dimming slowly varying: Simpson's rule (exact for the linear product).
 float beam_scatter(int vk, uint k, int vm, uint m, float a, float b, float tau) {
@@ -123,19 +143,19 @@ float beam_scatter(int vk, uint k, int vm, uint m, float a, float b, float tau) 
         float f = 0.5 * float(j);
         float t = mix(a, b, f);
         vec3 x = g_origin + g_dir * t;
-        float sigma = emission_at(vm, seg_scalar(m, t)).a;
         float light = max(seg_scalar(k, t), 0.0) * strength;
         float p = relative_phase(g, dot(beam_direction(vk, x), -g_dir));
-        sum += (j == 1 ? 4.0 : 1.0) * sigma * light * p * exp(-tau * f);
+        sum += (j == 1 ? 4.0 : 1.0) * medium_sigma(m, vm, t) * light * p * exp(-tau * f);
     }
     return sum * (b - a) / 6.0;
 }
-// Light scattered towards the eye over [a, b] by point light l in the absorbing medium of
-// segment m (volume vm): ∫ σ_m(t) · r0²/(r0² + r²)(1 − r²/R²)² · 4π·p(μ) dt. With u = t − t_c
-// (t_c nearest the light, h its distance) substituted by u = √q·tan φ, q = r0² + h², the
-// falloff's inverse-square part becomes constant in φ and what is left is smooth, except that
-// the phase turns from forward to backward over |u| ≲ h: 4-point Gauss–Legendre in φ on
-// |u| < 3h and beyond, on each side of t_c.
+
+// Light scattered towards the eye over [a, b] by point light l in medium m (volume vm):
+// ∫ σ_m(t) · r0²/(r0² + r²)(1 − r²/R²)² · 4π·p(μ) dt. With u = t − t_c (t_c nearest the light,
+// h its distance) substituted by u = √q·tan φ, q = r0² + h², the falloff's inverse-square part
+// becomes constant in φ and what is left is smooth, except that the phase turns from forward to
+// backward over |u| ≲ h: 4-point Gauss–Legendre in φ on |u| < 3h and beyond, on each side of
+// t_c; each node dimmed by the span's optical depth `tau` from a to it (spread evenly).
 const float kGaussX[4] = float[4](-0.861136312, -0.339981044, 0.339981044, 0.861136312);
 const float kGaussW[4] = float[4](0.347854845, 0.652145155, 0.652145155, 0.347854845);
 float point_light_scatter(int l, uint m, int vm, float a, float b, float tau) {
@@ -160,10 +180,9 @@ float point_light_scatter(int l, uint m, int vm, float a, float b, float tau) {
             float u = sq * tan(mix(p0, p1, 0.5 + 0.5 * kGaussX[j]));
             float window = max(w2 - u * u, 0.0) / (R * R);
             float mu = -u / sqrt(h2 + u * u + 1e-30); // the light's direction · back to the eye
-            float sigma = emission_at(vm, seg_scalar(m, tc + u)).a;
-            // f·du/dφ = r0²/(q + u²)·window²·(q + u²)/√q
             float dim = exp(-tau * clamp((tc + u - a) / (b - a), 0.0, 1.0));
-            sum += kGaussW[j] * 0.5 * (p1 - p0) * sigma * window * window * relative_phase(g, mu) * dim;
+            // f·du/dφ = r0²/(q + u²)·window²·(q + u²)/√q
+            sum += kGaussW[j] * 0.5 * (p1 - p0) * medium_sigma(m, vm, tc + u) * window * window * relative_phase(g, mu) * dim;
         }
     }
     return sum * r0 * r0 / sq;
@@ -175,24 +194,33 @@ float active_out[kActive];
 int active_count = 0;
 vec3 light_sum = vec3(0.0);
 float transmittance = 1.0;
-// Emission (rgb) and absorbing optical depth (a) of the media active over [a, b]; in `light`
-// the light the active absorbing media scatter towards the eye from the beams among them and
-// every point light, already dimmed by the span's own depth from a to where it is scattered.
-vec4 span_media(float a, float b, out vec3 light) {
+bool colour_varies = false; // some medium of the last span_media() changes colour with its scalar
+
+// Emission (rgb) and absorbing optical depth (a) over [a, b] of the active media and of the
+// bulk's share (bulk: its emission and optical depth there, spread evenly); in `light` the light
+// the absorbing ones scatter towards the eye from the beams among them and every point light,
+// already dimmed by the span's own depth from a to where it is scattered.
+vec4 span_media(float a, float b, vec4 bulk, out vec3 light) {
     float l = b - a;
-    vec3 e = vec3(0.0);
-    float tau = 0.0;
+    vec3 e = bulk.rgb;
+    bool with_bulk = u_bulk >= 0 && bulk.a > 0.0;
+    float tau = with_bulk && u_medium[u_bulk].x > 0.5 ? bulk.a : 0.0;
+    colour_varies = with_bulk && u_table[u_bulk].w > 0.5;
     for (int i = 0; i < active_count; ++i) {
         uint k = active_segment[i];
         int v = seg_volume(k);
         vec4 m = segment_integral(v, seg_scalar(k, a), seg_scalar(k, b), l);
         e += m.rgb;
         if (u_medium[v].x > 0.5) tau += m.a;
+        colour_varies = colour_varies || u_table[v].w > 0.5;
     }
     light = vec3(0.0);
-    for (int i = 0; i < active_count; ++i) {
-        uint m = active_segment[i];
-        int vm = seg_volume(m);
+    bulk_sigma = with_bulk ? bulk.a / l : 0.0;
+    // Scatterers: the active segments, then (i = active_count) the bulk.
+    for (int i = 0; i <= active_count; ++i) {
+        uint m = i < active_count ? active_segment[i] : kBulk;
+        int vm = i < active_count ? seg_volume(m) : u_bulk;
+        if (m == kBulk && !with_bulk) continue;
         float albedo = u_medium[vm].y;
         if (!(u_medium[vm].x > 0.5 && albedo > 0.0)) continue;
         for (int j = 0; j < active_count; ++j) {
@@ -216,30 +244,34 @@ void composite(vec4 m, vec3 light) {
     transmittance *= exp(-tau);
 }
 
-void integrate(float a, float b) {
+// [a, b] with the active media and the bulk's share `bulk` (emission rgb, optical depth a).
+void integrate(float a, float b, vec4 bulk) {
     if (!(b > a)) return;
     vec3 light;
-    vec4 m = span_media(a, b, light);
-    if (m.a <= kMaxPieceDepth) {
+    vec4 m = span_media(a, b, bulk, light);
+    // One medium of one colour, or thin: E·(1 − e^−τ)/τ is exact, or nearly.
+    int media = active_count + (bulk.a > 0.0 ? 1 : 0);
+    if (m.a <= kMaxPieceDepth || (!colour_varies && media == 1)) {
         composite(m, light);
         return;
     }
-    // Optically thick: pieces of depth ≤ kMaxPieceDepth (where colour varies inside the span).
+    // Optically thick and more than one colour: pieces of depth ≤ kMaxPieceDepth.
     int pieces = min(int(ceil(m.a / kMaxPieceDepth)), 64);
     for (int p = 0; p < pieces; ++p) {
-        m = span_media(mix(a, b, float(p) / float(pieces)), mix(a, b, float(p + 1) / float(pieces)), light);
+        m = span_media(mix(a, b, float(p) / float(pieces)), mix(a, b, float(p + 1) / float(pieces)), bulk / float(pieces), light);
         composite(m, light);
     }
 }
 
-// Pending segments in order of entry: a sorted local array, or (lists longer than kSorted)
-// repeated selection of the next (t_in, index) over the whole list.
+// The non-bulk segments in order of entry: a sorted local array, or (more than kSorted of them)
+// repeated selection of the next (t_in, index) over the whole list, the bulk's segments then
+// swept like the others.
 float sorted_t[kSorted];
 uint sorted_index[kSorted];
 int sorted_count = 0, cursor = 0;
 bool selecting = false;
 uint head = 0u;
-float last_t = -3.4e38;
+float last_t = -kInfinity;
 uint last_index = 0u;
 
 bool next_segment(out uint index, out float t_in) {
@@ -260,9 +292,109 @@ bool next_segment(out uint index, out float t_in) {
     return found;
 }
 
+// Sweeps the segments in order, integrating between consecutive boundaries (no bulk bins).
+void sweep() {
+    uint pending;
+    float pending_t;
+    bool has_pending = next_segment(pending, pending_t);
+    float t = has_pending ? pending_t : 0.0;
+    while (transmittance > 1e-7) {
+        while (has_pending && pending_t <= t) { // segments starting here join the active set
+            if (seg_t_out(pending) > t && active_count < kActive) {
+                active_segment[active_count] = pending;
+                active_out[active_count] = seg_t_out(pending);
+                ++active_count;
+            }
+            has_pending = next_segment(pending, pending_t);
+        }
+        if (active_count == 0) {
+            if (!has_pending) break;
+            t = pending_t;
+            continue;
+        }
+        float t_next = has_pending ? pending_t : kInfinity;
+        for (int i = 0; i < active_count; ++i) t_next = min(t_next, active_out[i]);
+        integrate(t, t_next, vec4(0.0));
+        t = t_next;
+        for (int i = active_count - 1; i >= 0; --i) {
+            if (active_out[i] <= t) {
+                --active_count;
+                active_segment[i] = active_segment[active_count];
+                active_out[i] = active_out[active_count];
+            }
+        }
+    }
+}
+
+// Bins between the boundaries of the non-bulk segments and the point lights' chords: bin j is
+// [bounds[j − 1], bounds[j]) (bin 0 from −∞, bin bound_count to +∞), with the bulk's emission
+// and optical depth inside it.
+float bounds[kBounds];
+int bound_count = 0;
+vec4 bins[kBounds + 1];
+
+void add_bound(float t) {
+    if (bound_count == kBounds) return;
+    int j = bound_count++;
+    for (; j > 0 && bounds[j - 1] > t; --j) bounds[j] = bounds[j - 1];
+    bounds[j] = t;
+}
+// Index of the bin holding t: the number of boundaries ≤ t.
+int bin_of(float t) {
+    int lo = 0, hi = bound_count;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (bounds[mid] <= t) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+void bin_bulk_segment(uint i) {
+    uint b = segment_base(i);
+    float t0 = uintBitsToFloat(medium_data[b]), t1 = uintBitsToFloat(medium_data[b + 1u]);
+    float s0 = uintBitsToFloat(medium_data[b + 2u]), s1 = uintBitsToFloat(medium_data[b + 3u]);
+    if (!(t1 > t0)) return;
+    for (int j = bin_of(t0); j <= bound_count; ++j) {
+        float lo = j == 0 ? t0 : max(t0, bounds[j - 1]);
+        float hi = j == bound_count ? t1 : min(t1, bounds[j]);
+        if (lo >= t1) break;
+        if (hi > lo) bins[j] += segment_integral(u_bulk, mix(s0, s1, (lo - t0) / (t1 - t0)), mix(s0, s1, (hi - t0) / (t1 - t0)), hi - lo);
+    }
+}
+// The bins front to back, each with the non-bulk segments active in it.
+void sweep_bins() {
+    uint pending;
+    float pending_t;
+    bool has_pending = next_segment(pending, pending_t);
+    for (int j = 0; j <= bound_count && transmittance > 1e-7; ++j) {
+        float lo = j == 0 ? -kInfinity : bounds[j - 1], hi = j == bound_count ? kInfinity : bounds[j];
+        for (int i = active_count - 1; i >= 0; --i) { // segments that ended
+            if (active_out[i] <= lo) {
+                --active_count;
+                active_segment[i] = active_segment[active_count];
+                active_out[i] = active_out[active_count];
+            }
+        }
+        while (has_pending && pending_t <= lo) { // segments that start here
+            if (seg_t_out(pending) > lo && active_count < kActive) {
+                active_segment[active_count] = pending;
+                active_out[active_count] = seg_t_out(pending);
+                ++active_count;
+            }
+            has_pending = next_segment(pending, pending_t);
+        }
+        if (j == 0 || j == bound_count) {
+            composite(bins[j], vec3(0.0)); // the bulk alone, outside every boundary and chord
+        } else {
+            integrate(lo, hi, bins[j]);
+        }
+    }
+}
+
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    head = medium_data[region_pixel(p)];
+    if (texelFetch(u_mask, p - ivec2(u_viewport.xy), 0).r < 0.5) discard; // the ordinary paths' pixel
+    head = medium_data[region_pixel(p - ivec2(u_viewport.xy))];
     vec4 behind = texelFetch(u_behind, p, 0);
     if (head == 0u) {
         o_color = behind;
@@ -278,12 +410,18 @@ void main() {
         g_dir = normalize(u_forward + ndc.x * u_right + ndc.y * u_up);
     }
 
+    // The non-bulk segments sorted by entry (insertion); the bulk's counted.
+    int bulk_count = 0;
     for (uint it = head; it != 0u; it = seg_next(it - 1u)) {
+        uint i = it - 1u;
+        if (seg_volume(i) == u_bulk) {
+            ++bulk_count;
+            continue;
+        }
         if (sorted_count == kSorted) {
             selecting = true;
             break;
         }
-        uint i = it - 1u;
         float t = seg_t_in(i);
         int j = sorted_count++;
         for (; j > 0 && (sorted_t[j - 1] > t || (sorted_t[j - 1] == t && sorted_index[j - 1] > i)); --j) {
@@ -294,36 +432,37 @@ void main() {
         sorted_index[j] = i;
     }
 
-    uint pending;
-    float pending_t;
-    bool has_pending = next_segment(pending, pending_t);
-    float t = has_pending ? pending_t : 0.0;
-    while (transmittance > 1e-7) {
-        // Segments starting here join the active set.
-        while (has_pending && pending_t <= t) {
-            if (seg_t_out(pending) > t && active_count < kActive) {
-                active_segment[active_count] = pending;
-                active_out[active_count] = seg_t_out(pending);
-                ++active_count;
-            }
-            has_pending = next_segment(pending, pending_t);
+    if (selecting || bulk_count == 0) {
+        sweep(); // every segment in order (selection walks the bulk's too)
+    } else {
+        for (int i = 0; i < sorted_count; ++i) {
+            add_bound(sorted_t[i]);
+            add_bound(seg_t_out(sorted_index[i]));
         }
-        if (active_count == 0) {
-            if (!has_pending) break;
-            t = pending_t;
-            continue;
+        for (int l = 0; l < u_point_count; ++l) { // the chord of each point light's reach, and its middle
+            vec3 c = u_point_position[l].xyz;
+            float R = u_point_color[l].w, tc = dot(c - g_origin, g_dir);
+            vec3 closest = g_origin + g_dir * tc - c;
+            float h2 = dot(closest, closest);
+            if (h2 >= R * R) continue;
+            float w = sqrt(R * R - h2);
+            add_bound(tc - w), add_bound(tc), add_bound(tc + w);
         }
-        float t_next = has_pending ? pending_t : 3.4e38;
-        for (int i = 0; i < active_count; ++i) t_next = min(t_next, active_out[i]);
-        integrate(t, t_next);
-        t = t_next;
-        for (int i = active_count - 1; i >= 0; --i) {
-            if (active_out[i] <= t) {
-                --active_count;
-                active_segment[i] = active_segment[active_count];
-                active_out[i] = active_out[active_count];
-            }
+        // Where the others or a light are, the bulk's own segment ends bound bins too (up to
+        // kBulkBounds of them), so it is placed exactly there: inside [first, last] of the
+        // boundaries so far.
+        float first = bound_count > 0 ? bounds[0] : kInfinity, last = bound_count > 0 ? bounds[bound_count - 1] : -kInfinity;
+        int extra = 0;
+        for (uint it = head; it != 0u && extra < kBulkBounds; it = seg_next(it - 1u)) {
+            if (seg_volume(it - 1u) != u_bulk) continue;
+            float t0 = seg_t_in(it - 1u), t1 = seg_t_out(it - 1u);
+            if (t0 > first && t0 < last) add_bound(t0), ++extra;
+            if (t1 > first && t1 < last && extra < kBulkBounds) add_bound(t1), ++extra;
         }
+        for (int j = 0; j <= bound_count; ++j) bins[j] = vec4(0.0);
+        for (uint it = head; it != 0u; it = seg_next(it - 1u))
+            if (seg_volume(it - 1u) == u_bulk) bin_bulk_segment(it - 1u);
+        sweep_bins();
     }
     // The volumes (premultiplied: light_sum, 1 − transmittance) over what lies behind them.
     o_color = vec4(light_sum + transmittance * behind.rgb, 1.0 - transmittance + transmittance * behind.a);

@@ -124,6 +124,10 @@ int render_scene_file(const ParsedArgs& parsed) {
     if (renderer.scene().has_terrain() && renderer.terrain_drawn())
         std::printf("  %-22s %10zu of %zu at full resolution\n", "terrain triangles", stats.terrain_lod.triangles,
                     renderer.terrain_lod().full_resolution_triangles());
+    if (stats.medium.pixels > 0)
+        std::printf("  %-22s %10zu px, %zu segments (pool %zu, %zu redraws), %zu volumes, gpu %.2f ms (append %.2f, resolve %.2f)\n",
+                    "one medium", stats.medium.pixels, stats.medium.segments, stats.medium.capacity, stats.medium.redraws,
+                    stats.medium.volumes, stats.medium.gpu_ms, stats.medium.append_gpu_ms, stats.medium.resolve_gpu_ms);
     std::printf("  %-10s %-12s %-11s %-16s %8s %8s %8s %9s %9s %9s\n", "effect", "type", "status", "path", "cells",
                 "built", "drawn", "noise", "sim ms", "gpu ms");
     for (const terrain::EffectFrameStats& e : stats.effects)

@@ -47,6 +47,11 @@ struct PixelRect {
     bool empty() const { return width <= 0 || height <= 0; }
 };
 
+// The pixel rectangle (in a width × height view of `camera`) that covers the box, a pixel wider
+// on each side; the whole view when the box reaches behind the near plane; empty when it is
+// outside the view.
+PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int height);
+
 struct MediumStats {
     std::size_t pixels = 0;         // in the region
     std::size_t segments = 0;       // appended this frame
@@ -55,6 +60,7 @@ struct MediumStats {
     std::size_t volumes = 0;        // appended this frame
     double cpu_ms = 0.0;            // of append() and resolve() together
     double gpu_ms = -1.0;           // GL_TIME_ELAPSED of appends and resolve (with timing)
+    double append_gpu_ms = -1.0, resolve_gpu_ms = -1.0; // its two parts
 };
 
 class MediumCompositor {
@@ -73,14 +79,16 @@ public:
     // index the volumes append() names. Throws fx::Error for more than kMaxVolumes volumes, a
     // region outside the viewport or a medium without transfer function points.
     void begin(const Camera& camera, const Viewport& viewport, const PixelRect& region,
-               const std::vector<MediumVolume>& volumes, bool timing = false);
-    // Appends the segments of `renderer`'s mesh as volume `volume`; `local_camera` is the camera
-    // in the mesh's frame (fx::camera_in_frame), `scene_depth` as CellRenderOptions::scene_depth.
-    // The renderer must stay alive and unchanged until resolve().
+               const std::vector<MediumVolume>& volumes, int bulk_volume = -1, bool timing = false);
+    // Adds the segments of `renderer`'s mesh as volume `volume`; `local_camera` is the camera in
+    // the mesh's frame (fx::camera_in_frame), `scene_depth` as CellRenderOptions::scene_depth.
+    // Drawn by resolve(): the renderer must stay alive and unchanged until then.
     void append(CellRenderer& renderer, const Camera& local_camera, std::size_t volume, unsigned scene_depth = 0);
-    // Integrates the region and writes it into the bound draw framebuffer (blending off):
-    // premultiplied volumes over `behind` (an RGBA texture of the viewport's size, premultiplied,
-    // texel (viewport.x + i, viewport.y + j) for pixel (i, j)).
+    // Appends every volume (the others first, marking the mask where they cover; the bulk volume
+    // inside it), integrates the masked pixels of the region and writes them into the bound draw
+    // framebuffer (blending off): premultiplied volumes over `behind` (an RGBA texture,
+    // premultiplied, texel (viewport.x + i, viewport.y + j) for pixel (i, j)). Pixels outside
+    // the mask are left as they were.
     MediumStats resolve(unsigned behind_texture);
 
     std::size_t gpu_bytes() const;

@@ -11,6 +11,8 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
 
 #include "fx/error.hpp"
 #include "gl/gl_check.hpp"
@@ -27,6 +29,8 @@ enum Uniform : GLint {
     kRegion = 30,
     kVolume = 31,
     kCapacity = 32,
+    kBulk = 33,
+    kMaskMode = 34,
     kForward = 35,
     kRight = 36,
     kUp = 37,
@@ -44,7 +48,7 @@ enum Uniform : GLint {
 };
 constexpr int kMaxPointLights = 8;
 constexpr GLuint kListsBinding = 3;
-constexpr GLuint kTablesUnit = 0, kBehindUnit = 2;
+constexpr GLuint kTablesUnit = 0, kMaskUnit = 1, kBehindUnit = 2;
 constexpr int kTableSize = 4096;           // samples per row, as the cell renderer's tables
 constexpr std::size_t kHeaderBytes = 16;   // medium_count + padding
 constexpr std::size_t kSegmentWords = 5;
@@ -94,11 +98,16 @@ struct MediumCompositor::Impl {
     std::array<glm::vec4, kMaxVolumes> table_params{};
     gl::Query timer;
 
+    gl::Texture mask;                     // R8, viewport-sized: 1 where the region is resolved
+    gl::Framebuffer mask_target, no_target; // the mask attached; nothing attached (the bulk's appends)
+    int mask_width = 0, mask_height = 0;
+
     // The frame begun.
     bool begun = false, timing = false;
     Camera camera;
     Viewport viewport;
-    PixelRect region; // framebuffer pixels
+    PixelRect region; // viewport pixels
+    int bulk = -1;
     std::vector<MediumVolume> volumes;
     struct Append {
         CellRenderer* renderer;
@@ -114,9 +123,12 @@ struct MediumCompositor::Impl {
     void set_resolve_uniforms();
     void reserve(std::size_t segments);
     void clear_lists();
+    void ensure_mask();
+    void clear_mask();
+    void draw_appends();
     void draw_append(const Append& a);
     void timed_begin();
-    void timed_end();
+    void timed_end(double& part);
 };
 
 MediumCompositor::MediumCompositor() : impl_(std::make_unique<Impl>()) {
@@ -146,8 +158,10 @@ void MediumCompositor::Impl::upload_tables() {
         table_rows(tf, scratch, s_lo, s_hi);
         glTextureSubImage2D(tables.id(), 0, 0, GLint(2 * v), kTableSize, 2, GL_RGBA, GL_FLOAT, scratch.data());
         const double span = s_hi - s_lo;
+        bool varies = false;
+        for (const TransferPoint& q : tf.points()) varies = varies || q.color != tf.points().front().color;
         table_params[v] = glm::vec4(float(s_lo), float(s_hi), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f,
-                                    float(kTableSize));
+                                    varies ? 1.0f : 0.0f);
         uploaded[v] = tf;
     }
     FX_GL_CHECK("medium tables");
@@ -221,16 +235,17 @@ void MediumCompositor::Impl::timed_begin() {
     if (timing) glBeginQuery(GL_TIME_ELAPSED, timer.id());
 }
 
-void MediumCompositor::Impl::timed_end() {
+void MediumCompositor::Impl::timed_end(double& part) {
     if (!timing) return;
     glEndQuery(GL_TIME_ELAPSED);
     GLuint64 ns = 0;
     glGetQueryObjectui64v(timer.id(), GL_QUERY_RESULT, &ns);
     stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + double(ns) * 1e-6;
+    part = std::max(part, 0.0) + double(ns) * 1e-6;
 }
 
 void MediumCompositor::begin(const Camera& camera, const Viewport& viewport, const PixelRect& region,
-                             const std::vector<MediumVolume>& volumes, bool timing) {
+                             const std::vector<MediumVolume>& volumes, int bulk_volume, bool timing) {
     Impl& m = *impl_;
     if (volumes.size() > std::size_t(kMaxVolumes))
         throw Error("medium: " + std::to_string(volumes.size()) + " volumes; at most " + std::to_string(kMaxVolumes));
@@ -238,6 +253,7 @@ void MediumCompositor::begin(const Camera& camera, const Viewport& viewport, con
     if (region.empty() || region.x < 0 || region.y < 0 || region.x + region.width > viewport.width ||
         region.y + region.height > viewport.height)
         throw Error("medium: the region is empty or outside the viewport");
+    if (bulk_volume < -1 || bulk_volume >= int(volumes.size())) throw Error("medium: the bulk volume is not one of the volumes");
     for (std::size_t v = 0; v < volumes.size(); ++v) {
         if (volumes[v].tf.points().empty())
             throw Error("medium: volume " + std::to_string(v) + " has a transfer function without points");
@@ -247,7 +263,8 @@ void MediumCompositor::begin(const Camera& camera, const Viewport& viewport, con
     const auto start = Clock::now();
     m.camera = camera;
     m.viewport = viewport;
-    m.region = PixelRect{viewport.x + region.x, viewport.y + region.y, region.width, region.height};
+    m.region = region;
+    m.bulk = bulk_volume;
     m.volumes = volumes;
     m.appends.clear();
     m.timing = timing;
@@ -255,34 +272,77 @@ void MediumCompositor::begin(const Camera& camera, const Viewport& viewport, con
     m.stats.pixels = std::size_t(region.width) * std::size_t(region.height);
     m.heads = m.stats.pixels;
     gl::StateGuard guard;
-    m.reserve(std::max(m.wanted, std::max<std::size_t>(4 * m.heads, 1 << 16)));
-    m.clear_lists();
     m.upload_tables();
     m.set_resolve_uniforms();
     m.begun = true;
     m.stats.cpu_ms += ms_since(start);
 }
 
+void MediumCompositor::Impl::ensure_mask() {
+    if (mask_width == viewport.width && mask_height == viewport.height) return;
+    mask = gl::make_texture_2d(GL_R8, viewport.width, viewport.height);
+    mask_target = gl::Framebuffer::create();
+    glNamedFramebufferTexture(mask_target.id(), GL_COLOR_ATTACHMENT0, mask.id(), 0);
+    no_target = gl::Framebuffer::create();
+    glNamedFramebufferParameteri(no_target.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, viewport.width);
+    glNamedFramebufferParameteri(no_target.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, viewport.height);
+    if (glCheckNamedFramebufferStatus(mask_target.id(), GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE ||
+        glCheckNamedFramebufferStatus(no_target.id(), GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("medium: the mask framebuffers are incomplete");
+    mask_width = viewport.width, mask_height = viewport.height;
+    FX_GL_CHECK("medium mask");
+}
+
+// The mask: 0 in the region, then 1 over the screen rectangle of every point light's reach (its
+// glow may light the bulk where no other volume is); the volumes' appends mark the rest.
+void MediumCompositor::Impl::clear_mask() {
+    const GLubyte zero = 0, one = 255;
+    glClearTexSubImage(mask.id(), 0, region.x, region.y, 0, region.width, region.height, 1, GL_RED, GL_UNSIGNED_BYTE, &zero);
+    for (const MediumVolume& v : volumes) {
+        if (v.light.kind != MediumLight::Kind::Point) continue;
+        const Bounds reach{v.light.origin - v.light.radius, v.light.origin + v.light.radius};
+        const PixelRect r = screen_rect(reach, camera, viewport.width, viewport.height);
+        const int x0 = std::max(r.x, region.x), y0 = std::max(r.y, region.y);
+        const int x1 = std::min(r.x + r.width, region.x + region.width), y1 = std::min(r.y + r.height, region.y + region.height);
+        if (x1 > x0 && y1 > y0) glClearTexSubImage(mask.id(), 0, x0, y0, 0, x1 - x0, y1 - y0, 1, GL_RED, GL_UNSIGNED_BYTE, &one);
+    }
+    FX_GL_CHECK("medium: clear mask");
+}
+
 void MediumCompositor::Impl::draw_append(const Append& a) {
     const GLuint p = append_program.id();
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(region.x, region.y, region.width, region.height);
-    glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListsBinding, lists.id());
-    // The projector's viewport origin is 0: gl_FragCoord already counts from the framebuffer's
-    // corner, where the scene depth's texels are.
-    const GLsizei vertices =
-        ProjectorAccess::bind(*a.renderer, p, a.local_camera, Viewport{0, 0, viewport.width, viewport.height}, a.scene_depth);
+    // The scene depth's texel for pixel (i, j) is (viewport.x + i, viewport.y + j).
+    const GLsizei vertices = ProjectorAccess::bind(*a.renderer, p, a.local_camera, viewport, a.scene_depth);
     glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
     glProgramUniform1ui(p, kVolume, GLuint(a.volume));
     glProgramUniform1ui(p, kCapacity, GLuint(capacity));
+    glProgramUniform1i(p, kMaskMode, int(a.volume) == bulk ? 1 : 0);
     glUseProgram(p);
     glBindVertexArray(vao.id());
     if (vertices > 0) glDrawArrays(GL_TRIANGLES, 0, vertices);
     FX_GL_CHECK("medium append");
+}
+
+// Every append into the cleared lists: the other volumes first, marking the mask, then the bulk
+// volume inside it.
+void MediumCompositor::Impl::draw_appends() {
+    clear_lists();
+    clear_mask();
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(region.x, region.y, region.width, region.height);
+    glViewportIndexedf(0, 0.0f, 0.0f, float(viewport.width), float(viewport.height));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListsBinding, lists.id());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mask_target.id());
+    for (const Append& a : appends)
+        if (int(a.volume) != bulk) draw_append(a);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, no_target.id());
+    glBindTextureUnit(kMaskUnit, mask.id());
+    glBindSampler(kMaskUnit, 0);
+    for (const Append& a : appends)
+        if (int(a.volume) == bulk) draw_append(a);
+    glBindTextureUnit(kMaskUnit, 0);
 }
 
 void MediumCompositor::append(CellRenderer& renderer, const Camera& local_camera, std::size_t volume, unsigned scene_depth) {
@@ -290,15 +350,8 @@ void MediumCompositor::append(CellRenderer& renderer, const Camera& local_camera
     if (!m.begun) throw Error("medium: append() before begin()");
     if (volume >= m.volumes.size())
         throw Error("medium: volume " + std::to_string(volume) + " of " + std::to_string(m.volumes.size()));
-    const auto start = Clock::now();
     m.appends.push_back({&renderer, local_camera, volume, scene_depth});
-    gl::StateGuard guard;
-    gl::StateGuard::set_render_defaults();
-    m.timed_begin();
-    m.draw_append(m.appends.back());
-    m.timed_end();
     ++m.stats.volumes;
-    m.stats.cpu_ms += ms_since(start);
 }
 
 MediumStats MediumCompositor::resolve(unsigned behind_texture) {
@@ -306,10 +359,17 @@ MediumStats MediumCompositor::resolve(unsigned behind_texture) {
     if (!m.begun) throw Error("medium: resolve() before begin()");
     const auto start = Clock::now();
     gl::StateGuard guard;
+    GLint host = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host);
     gl::StateGuard::set_render_defaults();
+    m.ensure_mask();
+    m.reserve(std::max(m.wanted, std::max<std::size_t>(4 * m.heads, 1 << 16)));
     // The pool must hold every segment: read the count back, and append again with a larger
     // pool if it overflowed (a few times at most: each round holds all that was counted).
     for (;;) {
+        m.timed_begin();
+        m.draw_appends();
+        m.timed_end(m.stats.append_gpu_ms);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         GLuint count = 0;
         glGetNamedBufferSubData(m.lists.id(), 0, sizeof count, &count);
@@ -320,33 +380,54 @@ MediumStats MediumCompositor::resolve(unsigned behind_texture) {
                         std::to_string(kMaxCapacity));
         m.wanted = std::size_t(count) + count / 4;
         m.reserve(m.wanted);
-        m.clear_lists();
         ++m.stats.redraws;
-        m.timed_begin();
-        for (const Impl::Append& a : m.appends) m.draw_append(a);
-        m.timed_end();
         gl::StateGuard::set_render_defaults();
     }
     m.stats.capacity = m.capacity;
 
+    gl::StateGuard::set_render_defaults();
     m.timed_begin();
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(host));
     glEnable(GL_SCISSOR_TEST);
-    glScissor(m.region.x, m.region.y, m.region.width, m.region.height);
+    glScissor(m.viewport.x + m.region.x, m.viewport.y + m.region.y, m.region.width, m.region.height);
     glViewportIndexedf(0, float(m.viewport.x), float(m.viewport.y), float(m.viewport.width), float(m.viewport.height));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kListsBinding, m.lists.id());
     glBindTextureUnit(kTablesUnit, m.tables.id());
     glBindSampler(kTablesUnit, 0);
+    glBindTextureUnit(kMaskUnit, m.mask.id());
+    glBindSampler(kMaskUnit, 0);
     glBindTextureUnit(kBehindUnit, behind_texture);
     glBindSampler(kBehindUnit, 0);
+    glProgramUniform4i(m.resolve_program.id(), kRegion, m.region.x, m.region.y, m.region.width, m.region.height);
+    glProgramUniform1i(m.resolve_program.id(), kBulk, m.bulk);
     glUseProgram(m.resolve_program.id());
     glBindVertexArray(m.vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     FX_GL_CHECK("medium resolve");
-    m.timed_end();
+    m.timed_end(m.stats.resolve_gpu_ms);
     m.begun = false;
     m.stats.cpu_ms += ms_since(start);
     return m.stats;
+}
+
+PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int height) {
+    if (bounds.empty() || width <= 0 || height <= 0) return {};
+    const glm::dmat4 vp = camera.projection_matrix(double(width) / double(height)) * camera.view_matrix();
+    double lo_x = HUGE_VAL, lo_y = HUGE_VAL, hi_x = -HUGE_VAL, hi_y = -HUGE_VAL;
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec4 c = vp * glm::dvec4((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
+                                             (k & 4) ? bounds.hi.z : bounds.lo.z, 1.0);
+        // A corner at or behind the near plane: the box's projection is unbounded, take the view.
+        if (!(c.w >= camera.near_distance) && !camera.orthographic()) return {0, 0, width, height};
+        lo_x = std::min(lo_x, c.x / c.w), hi_x = std::max(hi_x, c.x / c.w);
+        lo_y = std::min(lo_y, c.y / c.w), hi_y = std::max(hi_y, c.y / c.w);
+    }
+    const double x0 = std::floor((lo_x + 1.0) * 0.5 * width) - 1.0, x1 = std::ceil((hi_x + 1.0) * 0.5 * width) + 1.0;
+    const double y0 = std::floor((lo_y + 1.0) * 0.5 * height) - 1.0, y1 = std::ceil((hi_y + 1.0) * 0.5 * height) + 1.0;
+    const int ix0 = int(std::clamp(x0, 0.0, double(width))), ix1 = int(std::clamp(x1, 0.0, double(width)));
+    const int iy0 = int(std::clamp(y0, 0.0, double(height))), iy1 = int(std::clamp(y1, 0.0, double(height)));
+    if (ix1 <= ix0 || iy1 <= iy0) return {};
+    return {ix0, iy0, ix1 - ix0, iy1 - iy0};
 }
 
 } // namespace fx

@@ -15,6 +15,7 @@ namespace terrain {
 // One volume that may take part (an effect drawn with a path of the emission–absorption model).
 struct MediumCandidate {
     fx::Bounds bounds;       // world
+    bool bulk = false;       // the ground fog: binned, not sorted, and always drawn by its path too
     bool absorbs = false;
     bool scatters = false;   // absorbs with an albedo: lights show in it
     fx::Bounds light_reach{glm::dvec3(1.0), glm::dvec3(-1.0)}; // world box its point light reaches (empty: none)
@@ -23,13 +24,9 @@ struct MediumCandidate {
 struct MediumPlan {
     fx::PixelRect region;            // empty: nothing overlaps, every volume draws with its own path
     std::vector<bool> appended;      // per candidate: it covers part of the region
-    std::vector<bool> region_only;   // per candidate: all of it lies in the region (its own path is skipped)
+    std::vector<bool> region_only;   // per candidate: all of it lies in the region and it marks the
+                                     // compositor's mask (not the bulk): its own path is skipped
 };
-
-// The pixel rectangle (in a width × height view of `camera`) that covers the box, a pixel wider
-// on each side; the whole view when the box reaches behind the near plane; empty when it is
-// outside the view.
-fx::PixelRect screen_rect(const fx::Bounds& bounds, const fx::Camera& camera, int width, int height);
 
 // The region: the bounding rectangle of every overlap of two candidates' screen rectangles of
 // which at least one absorbs, and of every point light's reach with a scattering candidate.

@@ -381,13 +381,15 @@ struct SceneRenderer::Impl {
         if (!medium) medium.emplace();
         std::vector<fx::MediumVolume> volumes;
         std::vector<Slot*> appended;
+        int bulk = -1; // the ground fog, binned between the other volumes' boundaries
         for (std::size_t i = 0; i < medium_slots.size() && volumes.size() < fx::MediumCompositor::kMaxVolumes; ++i) {
             if (!plan.appended[i]) continue;
+            if (medium_slots[i]->kind == Kind::Fog) bulk = int(volumes.size());
             volumes.push_back(medium_volume(*medium_slots[i]));
             appended.push_back(medium_slots[i]);
         }
         target.bind_for_drawing();
-        medium->begin(camera, fx::Viewport{0, 0, width, height}, plan.region, volumes, timing);
+        medium->begin(camera, fx::Viewport{0, 0, width, height}, plan.region, volumes, bulk, timing);
         for (std::size_t v = 0; v < appended.size(); ++v) {
             Slot& s = *appended[v];
             medium->append(*s.renderer, fx::camera_in_frame(camera, s.effect->transform()), v, scene_depth);
@@ -443,6 +445,7 @@ struct SceneRenderer::Impl {
             const fx::MediumVolume v = medium_volume(*s);
             MediumCandidate c;
             c.bounds = s->effect->world_bounds(time);
+            c.bulk = s->kind == Kind::Fog;
             c.absorbs = v.absorbs;
             c.scatters = v.absorbs && v.albedo > 0.0;
             if (v.light.kind == fx::MediumLight::Kind::Point)
