@@ -141,6 +141,41 @@ TEST_CASE("Light in the mist: a beam and a fire's glow scatter as the scan-line 
     CHECK(lit > 1.5 * clear_air);
 }
 
+TEST_CASE("The night valley's volumes on every GPU path against the scan-line reference of intersecting grids",
+          "[gl][medium][showcase]") {
+    // content/scenes/fog_valley_night.json at t = 0 and t = 8 s (the beam swung, the camera
+    // moved): fog, campfire, smoke and search light, the terrain not drawn (the reference cannot
+    // draw it), each path against the reference of the model it draws with.
+    fx_test::gl_context();
+    const terrain::Scene scene = terrain::load_scene(fx_test::source_path("content/scenes/fog_valley_night.json"));
+    constexpr int kW = 128, kH = 96;
+    for (double time : {0.0, 8.0}) {
+        const fx::Camera camera = scene.camera_path->at(time, scene.camera);
+        for (fx::RenderPath path : fx::kRenderPaths) {
+            terrain::SceneRenderer renderer(scene);
+            renderer.set_terrain_drawn(false);
+            renderer.set_background(glm::dvec3(0.0));
+            renderer.set_time(time);
+            for (const std::string& name : renderer.effect_names()) renderer.set_path(name, path);
+            terrain::FrameStats stats;
+            const fx::Image actual = renderer.render_to_image(camera, kW, kH, &stats);
+            fx_test::require_no_gl_error();
+            fx::Image expected = terrain::render_scene_reference(renderer, camera, kW, kH);
+            fx::composite_over(expected, glm::vec3(0.0f));
+            // pcp and mip keep their own models (emission, maximum) and draw no medium.
+            const bool medium = path != fx::RenderPath::Pcp && path != fx::RenderPath::Mip;
+            CHECK((stats.medium.pixels > 0) == medium);
+            if (path == fx::RenderPath::Pcp) // its 8-bit target holds at most 1
+                for (glm::vec4& p : expected.pixels) p = glm::min(p, glm::vec4(1.0f));
+            // Tolerances of each path (test_effects_support.hpp): the medium is exact to the
+            // paths' own tolerances inside the mask (measured: 0.1% of peak at most), the paths
+            // draw the fog outside it. pcp: up to ~40 fog prisms and fire cells on a ray, each
+            // rounded to 8 bits.
+            effects_test::check_frame("night_valley_t" + std::to_string(int(time)), actual, expected, path, 40);
+        }
+    }
+}
+
 TEST_CASE("Volumes that do not overlap on screen cost nothing more: no region, each drawn by its own path",
           "[gl][medium]") {
     fx_test::gl_context();

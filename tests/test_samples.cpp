@@ -1,4 +1,4 @@
-// The five samples (samples/<name>), run as the programs users start: headless for a few
+// The six samples (samples/<name>), run as the programs users start: headless for a few
 // frames, and one in a real GLFW window under Xvfb (ctest runs "[samples-window]" through
 // xvfb-run). Each run's PNGs are read back and checked:
 //   - exit status 0, one PNG per frame, the frame not empty (it differs from the background);
@@ -128,14 +128,16 @@ fx::Image scene_reference(const std::string& scene_name, bool drone) {
     return renderer.render_to_image(camera, kWidth, kHeight);
 }
 
-void check_scene_sample(const std::string& name) {
+// `scene_name`: the sample's scene file (content/scenes/<scene_name>.json), if not its own name.
+void check_scene_sample(const std::string& name, std::string scene_name = "") {
+    if (scene_name.empty()) scene_name = name;
     const std::string dir = run_sample(name, "headless", "--no-overlay --no-props");
     std::vector<fx::Image> frames;
     for (int f = 0; f < kFrames; ++f) frames.push_back(read_frame(dir, f));
-    const terrain::Scene scene = terrain::load_scene(fx_test::source_path("content/scenes/" + name + ".json"));
+    const terrain::Scene scene = terrain::load_scene(fx_test::source_path("content/scenes/" + scene_name + ".json"));
     require_not_empty(frames[0], glm::vec3(scene.background));
 
-    const fx::Image expected = quantized(scene_reference(name, name == "searchlight"));
+    const fx::Image expected = quantized(scene_reference(scene_name, name == "searchlight"));
     // Same scene, camera, size and LOD on both sides; the sample composites cellfx's float
     // frame over an 8-bit framebuffer cleared to the (8-bit rounded) background, the reference
     // over the unrounded background in float: 1/255 for the background's rounding, 0.5/255 for
@@ -158,6 +160,9 @@ TEST_CASE("sample fog_valley runs headless and matches SceneRenderer's frame", "
 TEST_CASE("sample campfire runs headless and matches SceneRenderer's frame", "[samples]") { check_scene_sample("campfire"); }
 TEST_CASE("sample searchlight runs headless and matches SceneRenderer's frame", "[samples]") { check_scene_sample("searchlight"); }
 TEST_CASE("sample aurora runs headless and matches SceneRenderer's frame", "[samples]") { check_scene_sample("aurora"); }
+TEST_CASE("sample night_valley runs headless and matches SceneRenderer's frame", "[samples]") {
+    check_scene_sample("night_valley", "fog_valley_night");
+}
 
 TEST_CASE("sample fem_viewer runs headless and matches the scan-line reference", "[samples]") {
     const std::string dir = run_sample("fem_viewer", "headless", "--no-overlay");

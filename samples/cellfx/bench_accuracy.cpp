@@ -27,6 +27,10 @@
 // Verified after timing: every frame finite and not empty where the reference is not, or the
 // bench fails (a broken path cannot look fast or accurate).
 //
+// The night valley (content/scenes/fog_valley_night.json) is a scene of several volumes, drawn
+// through terrain::SceneRenderer as one medium and compared with the scan-line reference of the
+// volumes as intersecting grids, a row per path (run_night_valley).
+//
 // Writes into --out (default out/accuracy): accuracy.csv, accuracy.md (a table per scene),
 // accuracy.png (time against error, one panel per scene, one labelled point per flavour, log
 // axes; drawn by gnuplot from accuracy_plot.dat and accuracy.gp, both kept) and each scene's
@@ -67,6 +71,8 @@
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
+#include "terrain/scene_reference.hpp"
+#include "terrain/scene_renderer.hpp"
 
 namespace cellfx_cli {
 namespace {
@@ -592,7 +598,7 @@ struct Options {
     std::string out = "out/accuracy";
     std::string blunt_fin;
     int fem_cells = 1000000;
-    std::string scenes = "blunt-fin,fem,fog-above,fog-inside,campfire,searchlight";
+    std::string scenes = "blunt-fin,fem,fog-above,fog-inside,campfire,searchlight,night-valley";
     bool images = false; // every flavour's last frame as <scene>_<flavour>.png
     std::string command;
 };
@@ -698,6 +704,148 @@ void run_scene(BenchScene& s, const Options& o, std::vector<Row>& rows, bool& fa
     }
 }
 
+// ---- the night valley: a scene of several volumes as one medium --------------------------------
+
+// content/scenes/fog_valley_night.json at t = 0 from its camera: fog, campfire, smoke and search
+// light through terrain::SceneRenderer with every effect on one path (the terrain not drawn: the
+// reference cannot draw it), against the scan-line reference of the same volumes as intersecting
+// grids (terrain/scene_reference.hpp) with each path's optical model — pcp emission, mip maximum;
+// pcp-exact the one medium as the scene declares it (fire and beam emissive only); the sorted
+// paths the one medium with every volume absorbing, as they draw it.
+struct NightValley {
+    std::unique_ptr<terrain::SceneRenderer> renderer;
+    fx::Camera camera;
+    glm::dvec3 background;
+};
+
+NightValley night_valley() {
+    NightValley n;
+    const terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/fog_valley_night.json");
+    n.camera = scene.camera_path ? scene.camera_path->at(0.0, scene.camera) : scene.camera;
+    n.background = scene.background;
+    n.renderer = std::make_unique<terrain::SceneRenderer>(scene);
+    n.renderer->set_terrain_drawn(false);
+    n.renderer->set_time(0.0);
+    return n;
+}
+
+void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::vector<Row>& rows, bool& failed) {
+    BenchScene s;
+    s.id = "night-valley";
+    s.name = "night valley";
+    s.width = o.quick ? 64 : 320, s.height = o.quick ? 48 : 240;
+    NightValley n = night_valley();
+    s.background = n.background;
+    terrain::SceneRenderer& r = *n.renderer;
+    r.update(0.0, n.camera, s.width, s.height);
+    std::size_t cells = 0;
+    for (const terrain::SceneRenderer::DrawnVolume& v : r.drawn_volumes()) cells += v.effect->mesh().cell_count();
+    char note[240];
+    std::snprintf(note, sizeof note,
+                  "fog_valley_night.json at t = 0: fog, campfire, smoke and search light (%zu cells), one path for all, "
+                  "terrain not drawn; reference: the volumes as intersecting grids",
+                  cells);
+    s.note = note;
+    std::printf("\n%s: %s; %dx%d\n", s.name.c_str(), s.note.c_str(), s.width, s.height);
+
+    // The reference for the model `path` draws (its 4×4 and 1-sample frames).
+    struct Reference {
+        fx::Image supersampled, point;
+    };
+    auto reference = [&](fx::RenderPath path, const char* label) {
+        for (const std::string& name : r.effect_names()) r.set_path(name, path);
+        r.update(0.0, n.camera, s.width, s.height); // the meshes of this size's LOD
+        Reference ref;
+        const auto t0 = Clock::now();
+        ref.supersampled = box_filter(terrain::render_scene_reference(r, n.camera, kSupersample * s.width, kSupersample * s.height),
+                                      kSupersample);
+        std::printf("  reference %-30s %dx%d in %.1f s, peak %.3f\n", label, kSupersample * s.width, kSupersample * s.height,
+                    ms_since(t0) * 1e-3, peak_of(ref.supersampled));
+        fx::Image shown = ref.supersampled;
+        fx::composite_over(shown, s.background);
+        fx::write_png(shown, o.out + "/" + s.id + "_reference_" + fx::render_path_name(path) + ".png");
+        return ref;
+    };
+    std::printf("  %-26s %-20s %9s %9s %9s %10s %10s %8s %10s\n", "flavour", "model", "ms/frame", "gpu ms", "first ms",
+                "rmse", "max abs", "psnr dB", "rmse 1spp");
+    const struct {
+        fx::RenderPath path;
+        const char* model;
+        int family;
+    } paths[] = {{fx::RenderPath::Pcp, "emission", 2},
+                 {fx::RenderPath::PcpExact, "one medium", 3},
+                 {fx::RenderPath::Mip, "maximum", 5},
+                 {fx::RenderPath::Absorption, "one medium (all absorb)", 6},
+                 {fx::RenderPath::AbsorptionExact, "one medium (all absorb)", 7}};
+    std::optional<Reference> sorted_reference; // the two sorted paths share theirs
+    for (const auto& p : paths) {
+        const bool sorted = p.path == fx::RenderPath::Absorption || p.path == fx::RenderPath::AbsorptionExact;
+        Reference ref;
+        if (sorted && sorted_reference) {
+            ref = *sorted_reference;
+        } else {
+            ref = reference(p.path, p.model);
+            // The scan-line reference at one sample per pixel, timed, as its own row.
+            Row row;
+            row.scene_id = s.id, row.scene = s.name, row.family = 1, row.path = "scanline", row.model = p.model;
+            row.flavour = p.path == fx::RenderPath::Pcp ? "scanline E" : p.path == fx::RenderPath::Mip ? "scanline max"
+                          : sorted ? "scanline EA (all absorb)" : "scanline EA";
+            row.width = s.width, row.height = s.height, row.cells = cells, row.frames = o.frames;
+            std::vector<double> wall;
+            for (int i = 0; i < o.frames; ++i) {
+                const auto t0 = Clock::now();
+                ref.point = terrain::render_scene_reference(r, n.camera, s.width, s.height);
+                wall.push_back(ms_since(t0));
+            }
+            row.frame_ms = median(wall);
+            row.error = image_error(ref.point, ref.supersampled, s.background);
+            row.reference_peak = peak_of(ref.supersampled);
+            std::printf("  %-26s %-20s %9s %9s %9s %10.3g %10.3g %8.1f %10.3g\n", row.flavour.c_str(), row.model.c_str(),
+                        ms_text(row.frame_ms).c_str(), "-", "-", row.error.rmse, row.error.max_abs, row.error.psnr, 0.0);
+            rows.push_back(row);
+            if (sorted) sorted_reference = ref;
+        }
+        Row row;
+        row.scene_id = s.id, row.scene = s.name, row.family = p.family, row.path = fx::render_path_name(p.path);
+        row.flavour = row.path, row.model = p.model;
+        row.width = s.width, row.height = s.height, row.cells = cells, row.frames = o.frames;
+        for (const std::string& name : r.effect_names()) r.set_path(name, p.path);
+        r.set_timing(true);
+        terrain::FrameStats stats;
+        auto t0 = Clock::now();
+        fx::Image image = r.render_to_image(n.camera, s.width, s.height, &stats); // first frame
+        row.first_ms = ms_since(t0);
+        std::vector<double> wall, gpu;
+        for (int i = 0; i < o.frames; ++i) {
+            t0 = Clock::now();
+            image = r.render_to_image(n.camera, s.width, s.height, &stats);
+            wall.push_back(ms_since(t0));
+            gpu.push_back(stats.gpu_ms);
+        }
+        r.set_timing(false);
+        // The frame is opaque (over the background), the references premultiplied: image_error
+        // compares what is displayed.
+        row.frame_ms = median(wall);
+        row.gpu_ms = median(gpu);
+        row.error = image_error(image, ref.supersampled, s.background);
+        row.point_error = image_error(image, ref.point, s.background);
+        row.reference_peak = peak_of(ref.supersampled);
+        if (o.images) fx::write_png(image, o.out + "/" + s.id + "_" + row.flavour + ".png");
+        // Verified: finite, and the volumes there (a tenth of the pixels off the background).
+        std::size_t shown = 0;
+        for (const glm::vec4& px : image.pixels)
+            shown += glm::length(glm::dvec3(px) - s.background) > 1e-3 ? 1 : 0;
+        const bool ok = row.error.finite && shown > image.pixels.size() / 10;
+        std::printf("  %-26s %-20s %9s %9s %9s %10.3g %10.3g %8.1f %10.3g%s\n", row.flavour.c_str(), row.model.c_str(),
+                    ms_text(row.frame_ms).c_str(), ms_text(row.gpu_ms).c_str(), ms_text(row.first_ms).c_str(), row.error.rmse,
+                    row.error.max_abs, row.error.psnr, row.point_error.rmse, ok ? "" : "   FAILED verification");
+        if (!ok) failed = true;
+        std::fflush(stdout);
+        rows.push_back(std::move(row));
+    }
+    scenes.push_back(std::move(s));
+}
+
 std::string cpu_name() {
     std::ifstream in("/proc/cpuinfo");
     for (std::string line; std::getline(in, line);)
@@ -728,9 +876,9 @@ int bench_accuracy(const std::vector<std::string>& args) {
     const std::vector<std::string> wanted = split_list(o.scenes);
     for (const std::string& item : wanted)
         if (item != "blunt-fin" && item != "fem" && item != "fog-above" && item != "fog-inside" && item != "campfire" &&
-            item != "searchlight")
+            item != "searchlight" && item != "night-valley")
             throw fx::Error("bench accuracy: --scenes: unknown scene '" + item +
-                            "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight)");
+                            "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight, night-valley)");
     std::filesystem::create_directories(o.out);
 
     const fx::HeadlessContext context;
@@ -744,6 +892,7 @@ int bench_accuracy(const std::vector<std::string>& args) {
 
     std::vector<BenchScene> scenes;
     for (const std::string& id : wanted) {
+        if (id == "night-valley") continue; // a scene of several volumes: run apart, below
         const auto t0 = Clock::now();
         if (id == "blunt-fin") scenes.push_back(blunt_fin_scene(o.blunt_fin, o.quick));
         if (id == "fem") scenes.push_back(fem_scene(o.fem_cells));
@@ -756,6 +905,7 @@ int bench_accuracy(const std::vector<std::string>& args) {
     std::vector<Row> rows;
     bool failed = false;
     for (BenchScene& s : scenes) run_scene(s, o, rows, failed);
+    if (std::find(wanted.begin(), wanted.end(), "night-valley") != wanted.end()) run_night_valley(o, scenes, rows, failed);
 
     std::ostringstream header;
     header << "Made by `" << o.command << "` on " << machine << "; " << o.frames

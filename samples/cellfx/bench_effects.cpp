@@ -2,7 +2,7 @@
 // (ground fog ~25 Hz PCP, > 50 Hz MIP).
 //
 // `cellfx bench effects`: every shipped effect scene (content/scenes: campfire, searchlight,
-// laser, fog_valley, aurora) with every GPU render path, through terrain::SceneRenderer: frames
+// laser, fog_valley, aurora, fog_valley_night) with every GPU render path, through terrain::SceneRenderer: frames
 // 1/30 s apart on the scene clock along its camera path (or a slow move), each updated and
 // rendered (render_to_image: the opaque frame, read back outside the timing), with
 // GL_TIME_ELAPSED queries per stage. Per scene and path: median milliseconds per frame (wall,
@@ -13,10 +13,10 @@
 // nothing is simulated or drawn for them, so the difference is what the effects cost.
 // Verified after timing, so that a broken path cannot look fast: the last timed frame is finite
 // and differs from the same frame without effects; then the same frame's effects alone (terrain
-// not drawn, over black) are compared with the scan-line reference of the effects' own meshes
-// (emission summed; the absorbing fog drawn first, then the emissive effects added): mean and
-// worst error in percent of the reference's peak. Classic pcp is compared with the reference
-// clamped to its 8-bit range; the absorption paths with the emission-absorption reference.
+// not drawn, over black) are compared with the scan-line reference of the effects' meshes as
+// intersecting grids (terrain/scene_reference.hpp: one medium for the emission–absorption paths,
+// emission or maximum added for pcp and mip): mean and worst error in percent of the
+// reference's peak. Classic pcp is compared with the reference clamped to its 8-bit range.
 //
 // Then the samples (samples/<name>: fog_valley, campfire, searchlight, aurora, fem_viewer):
 // each sample's own frame loop — the code its window runs, drawing into an offscreen RGBA8 +
@@ -45,12 +45,13 @@
 #include "options.hpp"
 #include "sample.hpp"
 #include "terrain/scene.hpp"
+#include "terrain/scene_reference.hpp"
 #include "terrain/scene_renderer.hpp"
 
 namespace cellfx_cli {
 namespace {
 
-const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley", "aurora"};
+const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley", "aurora", "fog_valley_night"};
 
 // Frame f of the timed run: 1/30 s apart along the camera path, or a slow sideways move (1% of
 // the eye's distance to the target per frame) when the scene has none.
@@ -62,50 +63,6 @@ fx::Camera camera_at(const terrain::Scene& scene, int frame, double dt) {
     cam.eye += side * (step * frame);
     cam.target += side * (step * frame);
     return cam;
-}
-
-bool absorption_path(fx::RenderPath path) {
-    return path != fx::RenderPath::Pcp && path != fx::RenderPath::PcpExact && path != fx::RenderPath::Mip;
-}
-
-// The optical model a path draws an effect with: MIP the maximum; the sorted absorption paths,
-// and pcp-exact for an absorbing effect, emission and absorption; otherwise emission only.
-fx::OpticalModel optical_model(fx::RenderPath path, bool absorb) {
-    if (path == fx::RenderPath::Mip) return fx::OpticalModel::Maximum;
-    if (absorption_path(path) || (absorb && path == fx::RenderPath::PcpExact)) return fx::OpticalModel::EmissionAbsorption;
-    return fx::OpticalModel::Emission;
-}
-
-// Scan-line reference of the frame's effects (their current meshes, moved into the world).
-fx::Image reference(terrain::SceneRenderer& renderer, const fx::Camera& cam, int w, int h, fx::RenderPath path) {
-    fx::Image sum(w, h, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
-    const terrain::Scene& scene = renderer.scene();
-    for (const std::string& name : renderer.effect_names()) {
-        if (!renderer.enabled(name)) continue;
-        const fx::Effect& e = renderer.effect(name);
-        if (e.mesh().cell_count() == 0) continue;
-        fx::CellMesh world = e.mesh();
-        const glm::dmat4& m = e.transform();
-        for (glm::dvec3& p : world.points) p = glm::dvec3(m * glm::dvec4(p, 1.0));
-        fx::TransferFunction tf;
-        bool absorb = false;
-        if (name == "fog") tf = scene.fog->transfer_function, absorb = scene.fog->absorb;
-        else if (name == "aurora") tf = scene.aurora->transfer_function;
-        else
-            for (const terrain::EffectSpec& s : scene.effects)
-                if (s.name == name) tf = s.transfer_function, absorb = s.absorb;
-        const fx::ScalarRange r = e.scalar_range();
-        if (tf.normalized()) tf = tf.rescaled(r.lo, std::max(double(r.hi), r.lo + 1e-6 * std::max(1.0, std::abs(double(r.lo)))));
-        fx::ScanlineOptions so;
-        so.model = optical_model(path, absorb);
-        const fx::Image layer = fx::ScanlineRenderer(world).render(cam, w, h, *world.find_scalar(e.scalar_name()), tf, so);
-        // Drawn in this order by the renderer: "over" the sum so far (emission has alpha 0: adds).
-        for (std::size_t i = 0; i < sum.pixels.size(); ++i) {
-            const glm::vec4 c = layer.pixels[i];
-            sum.pixels[i] = glm::vec4(glm::vec3(c) + (1.0f - c.a) * glm::vec3(sum.pixels[i]), 1.0f);
-        }
-    }
-    return sum;
 }
 
 struct Error {
@@ -243,7 +200,7 @@ int bench_effects(const std::vector<std::string>& args) {
             row.ms = median(ms), row.gpu = median(gpu), row.update = median(update), row.surface = median(surface);
             print_row(row);
         }
-        std::map<int, fx::Image> references; // by optical model
+        std::map<fx::RenderPath, fx::Image> references; // by the model a path draws with
         for (fx::RenderPath path : paths) {
             terrain::SceneRenderer renderer(scene);
             for (const std::string& e : renderer.effect_names()) renderer.set_path(e, path);
@@ -284,9 +241,11 @@ int bench_effects(const std::vector<std::string>& args) {
                 renderer.set_terrain_drawn(false); // the same effect meshes (no time passes), alone
                 renderer.set_background(glm::dvec3(0.0));
                 const fx::Image alone = renderer.render_to_image(last_camera, w, h);
-                // One reference per way of drawing (pcp and pcp-exact differ only for absorbing effects).
-                const int model = path == fx::RenderPath::Mip ? 1 : path == fx::RenderPath::PcpExact ? 2 : absorption_path(path) ? 3 : 0;
-                if (!references.count(model)) references[model] = reference(renderer, last_camera, w, h, path);
+                // The scan-line reference of the same volumes as intersecting grids, each with the
+                // model this path draws it with (one medium for the emission–absorption paths; the
+                // two sorted paths draw the same, every volume absorbing).
+                const fx::RenderPath model = path == fx::RenderPath::Absorption ? fx::RenderPath::AbsorptionExact : path;
+                if (!references.count(model)) references[model] = terrain::render_scene_reference(renderer, last_camera, w, h);
                 row.error = compare(alone, references[model], path == fx::RenderPath::Pcp);
                 row.verified = true;
                 // Exact paths: the scan-line figures of the frame tests (≤ 0.05% of peak on average);

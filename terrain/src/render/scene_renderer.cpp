@@ -108,12 +108,13 @@ fx::MediumVolume medium_volume(const Slot& s) {
     return v;
 }
 
-// What the effect can change on screen at `time`: its world bounds, and the reach of its glow
-// (a campfire off screen still lights the fog in view).
-fx::Bounds view_bounds(const Slot& s, double time) {
+// What the effect can change on screen at `time`: its world bounds, and — when the scene has a
+// medium its light scatters in (`scatterers`) — the reach of its glow (a campfire off screen
+// still lights the fog in view).
+fx::Bounds view_bounds(const Slot& s, double time, bool scatterers) {
     fx::Bounds b = s.effect->world_bounds(time);
     const fx::MediumLight l = s.effect->medium_light();
-    if (l.kind != fx::MediumLight::Kind::Point || !(s.light.strength > 0.0) || !in_medium(s)) return b;
+    if (!scatterers || l.kind != fx::MediumLight::Kind::Point || !(s.light.strength > 0.0) || !in_medium(s)) return b;
     const glm::dvec3 centre(s.effect->transform_at(time) * glm::dvec4(l.origin, 1.0));
     const double r = s.light.radius > 0.0 ? s.light.radius : l.radius;
     b.lo = glm::min(b.lo, centre - r);
@@ -262,6 +263,8 @@ struct SceneRenderer::Impl {
         const double aspect = double(w) / double(h);
 
         // Which effects run this frame: enabled and in view (bounds from parameters and pose).
+        bool scatterers = false; // an absorbing medium that lights scatter in
+        for (const Slot& s : slots) scatterers = scatterers || (s.enabled && absorbs(s) && s.albedo > 0.0);
         for (Slot& s : slots) {
             s.simulated = false;
             s.stats = EffectFrameStats{};
@@ -272,7 +275,7 @@ struct SceneRenderer::Impl {
                 s.stats.status = EffectStatus::Disabled;
                 continue;
             }
-            const fx::Bounds b = view_bounds(s, time);
+            const fx::Bounds b = view_bounds(s, time, scatterers);
             if (!fx::bounds_in_view(b, cam, aspect)) {
                 s.stats.status = EffectStatus::OutOfView;
                 continue;
