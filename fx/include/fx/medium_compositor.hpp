@@ -7,29 +7,34 @@
 // transparency). The optical model is fx/medium.hpp's.
 //
 // Per frame, inside one rectangle of the viewport (the region where volumes overlap; the
-// caller draws everything else with the ordinary paths):
-//   begin()    the view, the region and every volume's medium (transfer function, absorbs,
-//              albedo, light); uploads tables only for volumes whose medium changed;
-//   append()   per volume: its CellRenderer's mesh drawn once (back faces, the renderer's own
-//              buffers), each fragment computing its ray's exact segment inside the cell
-//              (entry through the cell's planes, clamped to the near plane and the scene depth:
-//              shaders/cell_segment.glsl) and appending (t_in, t_out, s_in, s_out, volume) to
-//              its pixel's list;
-//   resolve()  per pixel of the region: the segments sorted by entry, swept in depth order, every
-//              span between consecutive boundaries integrated through the media inside it
-//              (emission tables, fx/medium.hpp's mixing and scattering), composited over the
-//              `behind` image (the frame without the volumes) and written — replacing what the
-//              ordinary paths drew there.
-// The segment pool grows to what a frame needs: resolve() reads back the count (4 bytes; a
-// GPU sync), and a frame that overflowed is appended again with a pool twice as large.
+// caller draws everything with the ordinary paths, and this replaces what they drew where the
+// volumes other than the bulk one cover):
+//   begin()    the view, the region, every volume's medium (transfer function, absorbs, albedo,
+//              light) and which one is the bulk (the ground fog: one colour, many segments);
+//              tables are uploaded only for volumes whose medium changed;
+//   append()   names a volume's CellRenderer (its own buffers are drawn: nothing is uploaded);
+//   resolve()  draws the appends: each volume's back faces once, every fragment computing its
+//              ray's exact segment in the cell (cell_segment.glsl: entry through the cell's
+//              planes, near plane, scene depth) and pushing (t_in, t_out, s_in, s_out, volume)
+//              onto its pixel's list — the other volumes first, marking a mask where they cover
+//              (and a rectangle over each point light's reach), the bulk only inside the mask.
+//              Then per masked pixel: the other volumes' segments sorted by entry, the bulk's
+//              integrated into the bins between their boundaries (and the point lights' chords,
+//              and its own segment ends among them), the bins swept front to back through the
+//              media inside them (fx/medium.hpp: mixing, pieces, single scattering), composited
+//              over `behind` and written.
+// The segment pool grows to what a frame needs: resolve() reads back the count (4 bytes; a GPU
+// sync), and a frame that overflowed is appended again with a pool 25% larger than it needed.
 //
-// Limits: at most kMaxVolumes volumes; a pixel's segments are sorted in a local array of
-// kSortedSegments (longer lists are walked by repeated selection — slower, still exact); at
-// most kActiveSegments segments overlap at one depth (more are left out and counted).
+// Limits: at most kMaxVolumes volumes and 8 point lights; a pixel's non-bulk segments are sorted
+// in a local array of kSortedSegments (longer lists are walked by repeated selection, the bulk's
+// segments among them — slower, still exact); at most kActiveSegments segments overlap at one
+// depth (more are left out).
 //
-// Ownership: owns its programs, buffers and tables (move-only; destroy with the context
-// current). Keeps no reference to the renderers between calls. Preconditions: GL 4.5 context
-// current for every call; every GL state it changes is restored (gl::StateGuard).
+// Ownership: owns its programs, buffers, tables and mask (move-only; destroy with the context
+// current). Keeps pointers to the appended renderers until resolve() returns. Preconditions:
+// GL 4.5 context current for every call; every GL state it changes is restored (gl::StateGuard:
+// it uses texture units 0–2 and storage binding 3).
 #pragma once
 
 #include <cstddef>
@@ -66,7 +71,7 @@ struct MediumStats {
 class MediumCompositor {
 public:
     static constexpr int kMaxVolumes = 32;
-    static constexpr int kSortedSegments = 128;
+    static constexpr int kSortedSegments = 96;
     static constexpr int kActiveSegments = 16;
 
     MediumCompositor(); // GL context current; compiles the programs
@@ -74,10 +79,11 @@ public:
     MediumCompositor(MediumCompositor&&) noexcept;
     MediumCompositor& operator=(MediumCompositor&&) noexcept;
 
-    // Starts a frame. `camera` is the world camera; `viewport` the target's (the caller's bound
-    // draw framebuffer: append and resolve draw into it); `region` a rectangle of it; `volumes`
-    // index the volumes append() names. Throws fx::Error for more than kMaxVolumes volumes, a
-    // region outside the viewport or a medium without transfer function points.
+    // Starts a frame. `camera` is the world camera; `viewport` the target's (resolve() writes
+    // into the draw framebuffer bound then); `region` a rectangle of it; `volumes` index the
+    // volumes append() names; `bulk_volume` the one binned rather than sorted (−1: none). Throws
+    // fx::Error for more than kMaxVolumes volumes, a region outside the viewport, a bulk index
+    // out of range or a medium whose transfer function has no points or is normalized.
     void begin(const Camera& camera, const Viewport& viewport, const PixelRect& region,
                const std::vector<MediumVolume>& volumes, int bulk_volume = -1, bool timing = false);
     // Adds the segments of `renderer`'s mesh as volume `volume`; `local_camera` is the camera in

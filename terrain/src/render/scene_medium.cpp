@@ -32,28 +32,37 @@ bool contains(const fx::PixelRect& outer, const fx::PixelRect& inner) {
 
 } // namespace
 
-MediumPlan plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camera& camera, int width, int height) {
+void plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camera& camera, int width, int height,
+                 MediumPlan& plan) {
     const std::size_t n = candidates.size();
-    std::vector<fx::PixelRect> rects(n), reach(n);
+    plan.rects.resize(n);
+    plan.reach.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        rects[i] = fx::screen_rect(candidates[i].bounds, camera, width, height);
-        reach[i] = fx::screen_rect(candidates[i].light_reach, camera, width, height);
+        plan.rects[i] = fx::screen_rect(candidates[i].bounds, camera, width, height);
+        plan.reach[i] = fx::screen_rect(candidates[i].light_reach, camera, width, height);
     }
-    MediumPlan plan;
+    plan.region = {};
     for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t j = i + 1; j < n; ++j)
-            if (candidates[i].absorbs || candidates[j].absorbs) plan.region = unite(plan.region, intersect(rects[i], rects[j]));
+            if (candidates[i].absorbs || candidates[j].absorbs)
+                plan.region = unite(plan.region, intersect(plan.rects[i], plan.rects[j]));
         for (std::size_t j = 0; j < n; ++j)
-            if (candidates[j].scatters) plan.region = unite(plan.region, intersect(reach[i], rects[j]));
+            if (candidates[j].scatters) plan.region = unite(plan.region, intersect(plan.reach[i], plan.rects[j]));
     }
     plan.appended.assign(n, false);
     plan.region_only.assign(n, false);
-    if (plan.region.empty()) return plan;
+    if (plan.region.empty()) return;
+    std::size_t appended = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        plan.appended[i] = !intersect(rects[i], plan.region).empty();
-        plan.region_only[i] = plan.appended[i] && !candidates[i].bulk && contains(plan.region, rects[i]);
+        plan.appended[i] = !intersect(plan.rects[i], plan.region).empty();
+        plan.region_only[i] = plan.appended[i] && !candidates[i].bulk && contains(plan.region, plan.rects[i]);
+        appended += plan.appended[i];
     }
-    return plan;
+    if (appended > std::size_t(fx::MediumCompositor::kMaxVolumes)) { // too many: none, each by its path
+        plan.region = {};
+        plan.appended.assign(n, false);
+        plan.region_only.assign(n, false);
+    }
 }
 
 } // namespace terrain

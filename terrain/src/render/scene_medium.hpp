@@ -23,6 +23,7 @@ struct MediumCandidate {
 
 struct MediumPlan {
     fx::PixelRect region;            // empty: nothing overlaps, every volume draws with its own path
+    std::vector<fx::PixelRect> rects, reach; // scratch: the candidates' screen rectangles
     std::vector<bool> appended;      // per candidate: it covers part of the region
     std::vector<bool> region_only;   // per candidate: all of it lies in the region and it marks the
                                      // compositor's mask (not the bulk): its own path is skipped
@@ -30,6 +31,10 @@ struct MediumPlan {
 
 // The region: the bounding rectangle of every overlap of two candidates' screen rectangles of
 // which at least one absorbs, and of every point light's reach with a scattering candidate.
-MediumPlan plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camera& camera, int width, int height);
+// None (each drawn by its path, as without overlap) when more than MediumCompositor::kMaxVolumes
+// candidates would take part.
+// `plan`'s storage is reused (a steady frame allocates nothing).
+void plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camera& camera, int width, int height,
+                 MediumPlan& plan);
 
 } // namespace terrain

@@ -89,12 +89,12 @@ bool in_medium(const Slot& s) {
 bool absorbs(const Slot& s) { return s.path != fx::RenderPath::PcpExact ? in_medium(s) : s.absorb; }
 
 // The effect's medium in the world: its transfer function, whether it absorbs, its albedo and
-// its light (moved by its transform).
-fx::MediumVolume medium_volume(const Slot& s) {
-    fx::MediumVolume v;
+// its light (moved by its transform). Assigned into `v`, whose storage a frame reuses.
+void set_medium_volume(const Slot& s, fx::MediumVolume& v) {
     v.tf = s.tf;
     v.absorbs = absorbs(s);
     v.albedo = v.absorbs ? s.albedo : 0.0;
+    v.light = fx::MediumLight{};
     fx::MediumLight l = s.effect->medium_light();
     if (l.kind != fx::MediumLight::Kind::None && s.light.strength > 0.0) {
         const glm::dmat4& m = s.effect->transform();
@@ -105,6 +105,10 @@ fx::MediumVolume medium_volume(const Slot& s) {
         if (s.light.radius > 0.0) l.radius = s.light.radius;
         v.light = l;
     }
+}
+fx::MediumVolume medium_volume(const Slot& s) {
+    fx::MediumVolume v;
+    set_medium_volume(s, v);
     return v;
 }
 
@@ -191,6 +195,11 @@ struct SceneRenderer::Impl {
     std::optional<fx::MediumCompositor> medium; // made on the first frame whose volumes overlap
     fx::gl::Texture behind;                     // the frame behind the medium's region
     int behind_width = 0, behind_height = 0;
+    // The frame's medium, kept so that a steady frame reuses their storage.
+    std::vector<Slot*> medium_slots, appended;
+    std::vector<MediumCandidate> candidates;
+    std::vector<fx::MediumVolume> volumes;
+    MediumPlan plan;
 
     explicit Impl(const Scene& s) : scene(s), draw_terrain(s.draw_terrain && s.has_terrain()) {
         if (s.has_terrain() && (s.fog || draw_terrain))
@@ -378,19 +387,47 @@ struct SceneRenderer::Impl {
         return order;
     }
 
+    // The volumes of the emission–absorption paths and where they overlap on screen (`plan`),
+    // from their bounds.
+    void plan_frame_medium(const std::vector<Slot*>& order) {
+        medium_slots.clear();
+        std::size_t n = 0;
+        for (Slot* s : order) {
+            if (!in_medium(*s) || s->effect->mesh().cell_count() == 0) continue;
+            if (candidates.size() <= n) candidates.emplace_back();
+            MediumCandidate& c = candidates[n++];
+            const bool absorbing = absorbs(*s);
+            c.bounds = s->effect->world_bounds(time);
+            c.bulk = s->kind == Kind::Fog;
+            c.absorbs = absorbing;
+            c.scatters = absorbing && s->albedo > 0.0;
+            c.light_reach = fx::Bounds{glm::dvec3(1.0), glm::dvec3(-1.0)};
+            const fx::MediumLight l = s->effect->medium_light();
+            if (l.kind == fx::MediumLight::Kind::Point && s->light.strength > 0.0) {
+                const glm::dvec3 centre(s->effect->transform() * glm::dvec4(l.origin, 1.0));
+                const double r = s->light.radius > 0.0 ? s->light.radius : l.radius;
+                c.light_reach = fx::Bounds{centre - r, centre + r};
+            }
+            medium_slots.push_back(s);
+        }
+        candidates.resize(n);
+        plan_medium(candidates, camera, width, height, plan);
+    }
+
     // The region of the plan: every volume that reaches it appended, the lists integrated over
     // the frame behind them (the own target).
-    void draw_medium(const MediumPlan& plan, const std::vector<Slot*>& medium_slots, GLuint scene_depth) {
+    void draw_medium(GLuint scene_depth) {
         if (!medium) medium.emplace();
-        std::vector<fx::MediumVolume> volumes;
-        std::vector<Slot*> appended;
+        appended.clear();
         int bulk = -1; // the ground fog, binned between the other volumes' boundaries
-        for (std::size_t i = 0; i < medium_slots.size() && volumes.size() < fx::MediumCompositor::kMaxVolumes; ++i) {
+        for (std::size_t i = 0; i < medium_slots.size(); ++i) { // at most kMaxVolumes (plan_medium)
             if (!plan.appended[i]) continue;
-            if (medium_slots[i]->kind == Kind::Fog) bulk = int(volumes.size());
-            volumes.push_back(medium_volume(*medium_slots[i]));
+            if (medium_slots[i]->kind == Kind::Fog) bulk = int(appended.size());
+            if (volumes.size() <= appended.size()) volumes.emplace_back();
+            set_medium_volume(*medium_slots[i], volumes[appended.size()]);
             appended.push_back(medium_slots[i]);
         }
+        volumes.resize(appended.size());
         target.bind_for_drawing();
         medium->begin(camera, fx::Viewport{0, 0, width, height}, plan.region, volumes, bulk, timing);
         for (std::size_t v = 0; v < appended.size(); ++v) {
@@ -441,22 +478,7 @@ struct SceneRenderer::Impl {
         const std::vector<Slot*> order = draw_order();
         // One medium: where volumes of the emission–absorption model overlap on screen, they
         // are integrated together (planned from their bounds: nothing more when none overlap).
-        std::vector<Slot*> medium_slots;
-        std::vector<MediumCandidate> candidates;
-        for (Slot* s : order) {
-            if (!in_medium(*s) || s->effect->mesh().cell_count() == 0) continue;
-            const fx::MediumVolume v = medium_volume(*s);
-            MediumCandidate c;
-            c.bounds = s->effect->world_bounds(time);
-            c.bulk = s->kind == Kind::Fog;
-            c.absorbs = v.absorbs;
-            c.scatters = v.absorbs && v.albedo > 0.0;
-            if (v.light.kind == fx::MediumLight::Kind::Point)
-                c.light_reach = fx::Bounds{v.light.origin - v.light.radius, v.light.origin + v.light.radius};
-            medium_slots.push_back(s);
-            candidates.push_back(c);
-        }
-        const MediumPlan plan = plan_medium(candidates, camera, width, height);
+        plan_frame_medium(order);
         const bool use_medium = !plan.region.empty();
         const bool own_target = mode == Mode::Opaque || draw_terrain || use_medium;
         {
@@ -500,7 +522,7 @@ struct SceneRenderer::Impl {
                 else draw_effect(s, effect_viewport, scene_depth);
             }
             // ... and all together inside it, replacing what their paths drew there.
-            if (use_medium) draw_medium(plan, medium_slots, scene_depth);
+            if (use_medium) draw_medium(scene_depth);
             // The emission (pcp) and maximum (mip) effects add their light over it.
             for (Slot* s : order)
                 if (!in_medium(*s)) draw_effect(*s, effect_viewport, scene_depth);
