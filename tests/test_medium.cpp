@@ -11,6 +11,8 @@
 #include <string>
 
 #include "fx/headless_context.hpp"
+#include "gl/render_target.hpp"
+#include "gl/state_guard.hpp"
 #include "fx/image.hpp"
 #include "fx/medium.hpp"
 #include "terrain/scene.hpp"
@@ -174,6 +176,58 @@ TEST_CASE("The night valley's volumes on every GPU path against the scan-line re
             effects_test::check_frame("night_valley_t" + std::to_string(int(time)), actual, expected, path, 40);
         }
     }
+}
+
+TEST_CASE("Long lists: a pool that overflows grows, more segments than the sorted array are walked in order",
+          "[gl][medium]") {
+    // A noise box of 128 cells along the view, so every ray crosses ~128 of its cells (more than
+    // MediumCompositor::kSortedSegments), behind a fog box: the first frame's pool (4 segments a
+    // pixel) overflows and is drawn again; the picture still equals the reference.
+    fx_test::gl_context();
+    terrain::Scene scene = terrain::load_scene(scene_file("emission_behind_fog"));
+    fx::VolumeParams& glow = std::get<fx::VolumeParams>(scene.effects[0].params);
+    glow.size = {1.0, 4.0, 1.0};
+    glow.cells = 128;
+    glow.density_mode = fx::VolumeDensity::Noise;
+    glow.noise.frequency = 2.0;
+    terrain::SceneRenderer renderer(scene);
+    terrain::FrameStats stats;
+    const fx::Image actual = renderer.render_to_image(scene.camera, 128, 128, &stats);
+    fx_test::require_no_gl_error();
+    CHECK(stats.medium.redraws >= 1);
+    CHECK(stats.medium.segments > std::size_t(fx::MediumCompositor::kSortedSegments) * 100); // > 96 at 100+ pixels
+    CHECK(stats.medium.capacity >= stats.medium.segments);
+    fx::Image expected = terrain::render_scene_reference(renderer, scene.camera, 128, 128);
+    fx::composite_over(expected, glm::vec3(scene.background));
+    effects_test::check_frame("medium_long_lists", actual, expected, fx::RenderPath::PcpExact, 130);
+    // The next frame fits the grown pool.
+    renderer.render_to_image(scene.camera, 128, 128, &stats);
+    CHECK(stats.medium.redraws == 0);
+}
+
+TEST_CASE("The medium over a game's frame leaves the game's GL state as it found it", "[gl][medium]") {
+    fx_test::gl_context();
+    terrain::SceneRenderer renderer(terrain::load_scene(scene_file("emission_behind_fog")));
+    const int w = 64, h = 64;
+    fx::gl::RenderTarget host = fx::gl::RenderTarget::create(w, h, fx::gl::ColorFormat::RGBA32F, false);
+    {
+        fx::gl::StateGuard guard;
+        fx::gl::StateGuard::set_render_defaults();
+        host.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    }
+    renderer.update(0.0, terrain::load_scene(scene_file("emission_behind_fog")).camera, w, h);
+    effects_test::HostLeftovers leftovers;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host.framebuffer());
+    const std::vector<double> before = effects_test::host_state();
+    const terrain::FrameStats stats = renderer.render(terrain::Target{host.framebuffer(), {0, 0, w, h}, 0});
+    CHECK(stats.medium.pixels > 0);
+    CHECK(effects_test::host_state() == before);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    fx_test::require_no_gl_error();
+    // And the picture over the game's frame is the closed form.
+    const fx::Image frame = host.read();
+    const glm::dvec3 c = centre(frame);
+    for (int k = 0; k < 3; ++k) CHECK(c[k] == Approx(closed_form("emission_behind_fog")[k]).epsilon(2e-5));
 }
 
 TEST_CASE("Volumes that do not overlap on screen cost nothing more: no region, each drawn by its own path",

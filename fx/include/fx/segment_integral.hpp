@@ -66,6 +66,13 @@ struct EmissionTable {
 };
 EmissionTable build_emission_table(const TransferFunction& tf, std::size_t size);
 
+// The GPU paths' emission tables as texels (shaders/project.glsl, medium_resolve.frag): row 0
+// (texels [0, size)) the cumulative emission E(s) (rgb) and extinction ∫σ ds (a) from
+// build_emission_table, row 1 (texels [size, 2·size)) the point values c·σ (rgb) and σ (a) at
+// the same samples. `texels` is resized to 2·size; the table's range is returned in s_lo, s_hi.
+void build_emission_rows(const TransferFunction& tf, std::size_t size, std::vector<glm::vec4>& texels, double& s_lo,
+                         double& s_hi);
+
 // Pre-integration table over (s_front, s_back, length), for the exact absorption path:
 // entry [(il * n_s + ib) * n_s + if] = emission_absorption(s_f, s_b, l) with s_f, s_b on
 // n_s samples of [s_lo, s_hi] and l on n_l samples of [0, max_length].

@@ -66,4 +66,13 @@ ConeMesh build_cone_mesh(const ConeShape& shape) {
     return out;
 }
 
+MediumLight cone_light(const ConeShape& shape, double intensity) {
+    MediumLight light;
+    light.kind = MediumLight::Kind::Beam;
+    const double spread = std::tan(shape.half_angle);
+    light.apex_distance = spread > 0.0 ? shape.lens_radius / spread : 0.0;
+    light.strength_per_scalar = intensity > 0.0 ? 1.0 / intensity : 0.0;
+    return light;
+}
+
 } // namespace fx::effects

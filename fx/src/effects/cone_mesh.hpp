@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/medium.hpp"
 
 namespace fx::effects {
 
@@ -33,5 +34,8 @@ ConeMesh build_cone_mesh(const ConeShape& shape);
 double cone_radius(const ConeShape& shape, double z);
 // Local bounds of the whole cone.
 Bounds cone_bounds(const ConeShape& shape);
+// The cone's beam as a light of the medium (fx/medium.hpp), local frame: along +z from the
+// lens, its rays diverging from the cone's apex, strength = scalar / intensity (0 < intensity).
+MediumLight cone_light(const ConeShape& shape, double intensity);
 
 } // namespace fx::effects

@@ -77,14 +77,7 @@ glm::dmat4 LaserCone::pose_at(double) const { return frame_along(params_.positio
 
 Bounds LaserCone::local_bounds() const { return effects::cone_bounds(shape_of(params_)); }
 
-MediumLight LaserCone::medium_light() const {
-    MediumLight light;
-    light.kind = MediumLight::Kind::Beam;
-    const double divergence = std::tan(params_.divergence_degrees * kDegrees);
-    light.apex_distance = divergence > 0.0 ? params_.radius / divergence : 0.0;
-    light.strength_per_scalar = params_.intensity > 0.0 ? 1.0 / params_.intensity : 0.0;
-    return light;
-}
+MediumLight LaserCone::medium_light() const { return effects::cone_light(shape_of(params_), params_.intensity); }
 
 void LaserCone::build() {
     effects::ConeMesh cone = effects::build_cone_mesh(shape_of(params_));

@@ -80,14 +80,7 @@ glm::dvec3 SearchLight::direction_at(double time) const {
 
 glm::dmat4 SearchLight::pose_at(double time) const { return frame_along(params_.position, direction_at(time)); }
 
-MediumLight SearchLight::medium_light() const {
-    MediumLight light;
-    light.kind = MediumLight::Kind::Beam;
-    const double spread = std::tan(params_.spread_degrees * kDegrees);
-    light.apex_distance = spread > 0.0 ? params_.lens_radius / spread : 0.0;
-    light.strength_per_scalar = params_.intensity > 0.0 ? 1.0 / params_.intensity : 0.0;
-    return light;
-}
+MediumLight SearchLight::medium_light() const { return effects::cone_light(shape_of(params_), params_.intensity); }
 
 Bounds SearchLight::local_bounds() const { return effects::cone_bounds(shape_of(params_)); }
 

@@ -4,6 +4,7 @@
 #include "fx/medium.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -169,13 +170,15 @@ SegmentColor Medium::integrate_span(const SpanVolume* inside, std::size_t count,
             if (m.absorbs) tau += emission_integral(extinction_[v.volume], sa, sb, b - a).x;
         }
         if (lit) { // split where a point light is nearest: its phase turns there, its falloff peaks
-            double cuts[2 + 8] = {a};
+            std::array<double, 10> cuts{a};
             std::size_t n = 1;
             for (std::size_t v : point_lights_) {
                 const double tc = glm::dot(volumes_[v].light.origin - span.origin, span.dir);
-                if (tc > a && tc < b && n < 9) cuts[n++] = tc;
+                if (!(tc > a && tc < b) || n == cuts.size() - 1) continue;
+                std::size_t j = n++; // insertion, in order
+                for (; j > 1 && cuts[j - 1] > tc; --j) cuts[j] = cuts[j - 1];
+                cuts[j] = tc;
             }
-            std::sort(cuts + 1, cuts + n);
             cuts[n++] = b;
             for (std::size_t k = 0; k + 1 < n; ++k) e += integrate(scattered, cuts[k], cuts[k + 1]);
         }

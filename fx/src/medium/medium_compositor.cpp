@@ -15,6 +15,7 @@
 #include <glm/vec4.hpp>
 
 #include "fx/error.hpp"
+#include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/shader_library.hpp"
@@ -64,23 +65,6 @@ bool same_points(const TransferFunction& a, const TransferFunction& b) {
     for (std::size_t i = 0; i < p.size(); ++i)
         if (p[i].s != q[i].s || p[i].color != q[i].color || p[i].sigma != q[i].sigma) return false;
     return true;
-}
-
-// The two table rows of project.glsl for one transfer function: cumulative (E rgb, ∫σ a) and
-// point values (c·σ rgb, σ a) at kTableSize samples of its range.
-void table_rows(const TransferFunction& tf, std::vector<glm::vec4>& texels, double& s_lo, double& s_hi) {
-    const EmissionTable emission = build_emission_table(tf, kTableSize);
-    std::vector<TransferPoint> white = tf.points();
-    for (TransferPoint& p : white) p.color = glm::dvec3(1.0);
-    const EmissionTable extinction = build_emission_table(TransferFunction(white), kTableSize);
-    s_lo = emission.s_lo;
-    s_hi = emission.s_hi;
-    texels.resize(2 * kTableSize);
-    for (int i = 0; i < kTableSize; ++i) {
-        texels[i] = glm::vec4(emission.cumulative[i], extinction.cumulative[i].x);
-        const double s = i + 1 == kTableSize ? s_hi : s_lo + (s_hi - s_lo) * double(i) / (kTableSize - 1);
-        texels[kTableSize + i] = glm::vec4(glm::vec3(tf.emission(s)), float(tf.sigma(s)));
-    }
 }
 
 glm::vec3 vec3f(const glm::dvec3& v) { return glm::vec3(v); }
@@ -155,7 +139,7 @@ void MediumCompositor::Impl::upload_tables() {
         const TransferFunction& tf = volumes[v].tf;
         if (same_points(tf, uploaded[v]) && !uploaded[v].points().empty()) continue;
         double s_lo = 0.0, s_hi = 1.0;
-        table_rows(tf, scratch, s_lo, s_hi);
+        build_emission_rows(tf, kTableSize, scratch, s_lo, s_hi);
         glTextureSubImage2D(tables.id(), 0, 0, GLint(2 * v), kTableSize, 2, GL_RGBA, GL_FLOAT, scratch.data());
         const double span = s_hi - s_lo;
         bool varies = false;

@@ -228,20 +228,8 @@ void CellRenderer::set_transfer_function(const TransferFunction& tf) {
 }
 
 void CellRenderer::Impl::upload_tables(const TransferFunction& tf) {
-    // Row 0: E(s) from build_emission_table (rgb) and the same for unit colour, i.e. ∫σ (a).
-    const EmissionTable emission = build_emission_table(tf, kTableSize);
-    std::vector<TransferPoint> white = tf.points();
-    for (TransferPoint& p : white) p.color = glm::dvec3(1.0);
-    const EmissionTable extinction = build_emission_table(TransferFunction(white), kTableSize);
-    s_lo = emission.s_lo;
-    s_hi = emission.s_hi;
-    std::vector<glm::vec4> texels(2 * kTableSize);
-    for (int i = 0; i < kTableSize; ++i) {
-        texels[i] = glm::vec4(emission.cumulative[i], extinction.cumulative[i].x);
-        // Row 1: point values c·σ and σ at the samples (the held end values come from here).
-        const double s = i + 1 == kTableSize ? s_hi : s_lo + (s_hi - s_lo) * double(i) / (kTableSize - 1);
-        texels[kTableSize + i] = glm::vec4(glm::vec3(tf.emission(s)), float(tf.sigma(s)));
-    }
+    std::vector<glm::vec4> texels;
+    build_emission_rows(tf, kTableSize, texels, s_lo, s_hi);
     glTextureSubImage2D(tables.id(), 0, 0, 0, kTableSize, 2, GL_RGBA, GL_FLOAT, texels.data());
     FX_GL_CHECK("glTextureSubImage2D(tables)");
 }

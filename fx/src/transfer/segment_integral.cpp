@@ -313,6 +313,23 @@ EmissionTable build_emission_table(const TransferFunction& tf, std::size_t size)
     return table;
 }
 
+void build_emission_rows(const TransferFunction& tf, std::size_t size, std::vector<glm::vec4>& texels, double& s_lo,
+                         double& s_hi) {
+    const EmissionTable emission = build_emission_table(tf, size);
+    std::vector<TransferPoint> white = tf.points(); // unit colour: E is then ∫σ
+    for (TransferPoint& p : white) p.color = glm::dvec3(1.0);
+    const EmissionTable extinction = build_emission_table(TransferFunction(white), size);
+    s_lo = emission.s_lo;
+    s_hi = emission.s_hi;
+    texels.resize(2 * size);
+    for (std::size_t i = 0; i < size; ++i) {
+        texels[i] = glm::vec4(emission.cumulative[i], extinction.cumulative[i].x);
+        // The held end values outside the table come from these.
+        const double s = i + 1 == size ? s_hi : s_lo + (s_hi - s_lo) * double(i) / double(size - 1);
+        texels[size + i] = glm::vec4(glm::vec3(tf.emission(s)), float(tf.sigma(s)));
+    }
+}
+
 PreintegrationTable build_preintegration_table(const TransferFunction& tf, std::size_t n_s, std::size_t n_l,
                                                double max_length) {
     require_table(n_s >= 2 && n_l >= 2, "a pre-integration table needs n_s, n_l >= 2, got " + std::to_string(n_s) +
