@@ -333,7 +333,7 @@ TEST_CASE("LaserCone: dust is sampled at build and then only when it drifts", "[
 // ---------------------------------------------------------------------------------------------
 // Ground fog and aurora as effects
 
-TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD changed", "[effects][terrain]") {
+TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD or the view changed, culled to the view", "[effects][terrain]") {
     const terrain::HeightField ground = terrain_test::hills(65, 10.0);
     const terrain::HeightField fog_map = terrain::make_valley_fog_map(ground, 0.0, 40.0, {}, 120.0);
     auto lod = std::make_shared<terrain::TerrainLod>(ground, fog_map);
@@ -343,16 +343,36 @@ TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD changed", "[effect
     CHECK(fog.update(view_at(0.0, cam)).mesh);
     require_valid(fog.mesh());
     CHECK(fog.counters().mesh_builds == 1);
-    // Same eye, another direction (a camera that turns): the LOD is unchanged, nothing rebuilt.
+    // The same view again: nothing refined, nothing rebuilt.
+    CHECK_FALSE(fog.update(view_at(0.05, cam)).any());
+    CHECK(fog.counters().mesh_builds == 1);
+    // Same eye, another direction (a camera that turns): the LOD is unchanged (not refined),
+    // the prisms are those of the new view volume.
     fx::Camera turned = cam;
     turned.target = {200, 300, 10};
-    CHECK_FALSE(fog.update(view_at(0.1, turned)).any());
-    CHECK(fog.counters().mesh_builds == 1);
+    CHECK(fog.update(view_at(0.1, turned)).mesh);
+    CHECK(fog.lod_stats().triangles == 0); // no refinement
+    CHECK(fog.counters().mesh_builds == 2);
+    CHECK(fog.prism_stats().culled > 0);
+    // Every prism built meets the view volume; every prism left out lies outside it (a full
+    // build has the culled ones and the same others).
+    const fx::Frustum frustum(turned, double(view_at(0.1, turned).viewport_width) / view_at(0.1, turned).viewport_height);
+    const fx::CellMesh& culled = fog.mesh();
+    for (std::size_t c = 0; c < culled.cell_count(); ++c) {
+        fx::Bounds box{glm::dvec3(1e300), glm::dvec3(-1e300)};
+        for (int k = 0; k < 6; ++k) {
+            const glm::dvec3& q = culled.points[culled.cell_vertices(c)[k]];
+            box.lo = glm::min(box.lo, q), box.hi = glm::max(box.hi, q);
+        }
+        CHECK(frustum.intersects(box));
+    }
+    const fx::CellMesh all = terrain::build_layer_prisms(lod->mesh(), prisms);
+    CHECK(all.cell_count() == culled.cell_count() + fog.prism_stats().culled);
     // The eye moves far: the LOD refines, the prisms follow.
     fx::Camera moved = cam;
     moved.eye = {320, 200, 90};
     CHECK(fog.update(view_at(0.2, moved)).mesh);
-    CHECK(fog.counters().mesh_builds == 2);
+    CHECK(fog.counters().mesh_builds == 3);
     // The range covers every density the prisms carry; the bounds every point.
     const fx::ScalarRange r = fog.scalar_range();
     for (float v : fog.mesh().scalars[0].values) CHECK(v <= r.hi);

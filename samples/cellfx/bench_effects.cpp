@@ -89,13 +89,11 @@ fx::Image reference(terrain::SceneRenderer& renderer, const fx::Camera& cam, int
         for (glm::dvec3& p : world.points) p = glm::dvec3(m * glm::dvec4(p, 1.0));
         fx::TransferFunction tf;
         bool absorb = false;
-        if (name == "fog") tf = scene.fog->transfer_function, absorb = scene.fog->absorb;
-        else if (name == "aurora") tf = scene.aurora->transfer_function;
+        if (name == "fog") tf = terrain::drawn_transfer_function(scene.fog->transfer_function, scene.fog->extinction_scale, e.scalar_range()), absorb = scene.fog->absorb;
+        else if (name == "aurora") tf = terrain::drawn_transfer_function(scene.aurora->transfer_function, scene.aurora->extinction_scale, e.scalar_range());
         else
             for (const terrain::EffectSpec& s : scene.effects)
-                if (s.name == name) tf = s.transfer_function, absorb = s.absorb;
-        const fx::ScalarRange r = e.scalar_range();
-        if (tf.normalized()) tf = tf.rescaled(r.lo, std::max(double(r.hi), r.lo + 1e-6 * std::max(1.0, std::abs(double(r.lo)))));
+                if (s.name == name) tf = terrain::drawn_transfer_function(s.transfer_function, s.extinction_scale, e.scalar_range()), absorb = s.absorb;
         fx::ScanlineOptions so;
         so.model = optical_model(path, absorb);
         const fx::Image layer = fx::ScanlineRenderer(world).render(cam, w, h, *world.find_scalar(e.scalar_name()), tf, so);

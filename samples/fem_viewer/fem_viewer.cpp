@@ -76,9 +76,7 @@ public:
             const fx::ScalarRange r = fx::scalar_range(mesh_.scalars[field_]);
             tf = tf.rescaled(r.lo, std::max(double(r.hi), r.lo + 1e-6 * std::max(1.0, std::abs(double(r.lo)))));
         }
-        std::vector<fx::TransferPoint> points = tf.points();
-        for (fx::TransferPoint& p : points) p.sigma *= density_;
-        return fx::TransferFunction(std::move(points), false);
+        return tf.scaled_extinction(density_);
     }
 
     glm::vec3 background() const override { return {0.06f, 0.065f, 0.08f}; }

@@ -43,6 +43,14 @@ double max_density(const HeightField& thickness, const LayerPrismOptions& prisms
     return 1.0;
 }
 
+// The prisms are culled to the view volume: another view (a turn included) builds them again.
+bool same_view(const fx::EffectView& a, const fx::EffectView& b) {
+    const fx::Camera &x = a.camera, &y = b.camera;
+    return x.eye == y.eye && x.target == y.target && x.up == y.up && x.fov_y_degrees == y.fov_y_degrees &&
+           x.ortho_height == y.ortho_height && x.near_distance == y.near_distance && x.far_distance == y.far_distance &&
+           a.viewport_width == b.viewport_width && a.viewport_height == b.viewport_height;
+}
+
 fx::ScalarRange positive_range(double hi) {
     // A range of width 0 cannot carry a transfer function: keep a sliver.
     return {0.0f, float(std::max(hi, 1e-6))};
@@ -65,9 +73,11 @@ fx::EffectChanges GroundFog::simulate(const fx::EffectView& view) {
     lod_->update(LodView::from_camera(view.camera, view.viewport_height, settings_.pixel_error, settings_.triangle_budget),
                  &lod_stats_);
     fx::EffectChanges changes;
-    if (lod_->version() != built_version_) {
-        mesh_ = build_layer_prisms(lod_->mesh(), prisms_, &prism_stats_);
+    if (lod_->version() != built_version_ || !same_view(view, built_view_)) {
+        const fx::Frustum frustum(view.camera, double(view.viewport_width) / double(view.viewport_height));
+        builder_.build(lod_->mesh(), prisms_, mesh_, &prism_stats_, &frustum);
         built_version_ = lod_->version();
+        built_view_ = view;
         count_build();
         // Noise density samples the generator once per LOD vertex that carries a prism.
         if (prisms_.density == LayerDensity::Noise) count_noise(prism_stats_.points / 2);
@@ -87,9 +97,11 @@ fx::EffectChanges Aurora::simulate(const fx::EffectView& view) {
     lod_.update(LodView::from_camera(view.camera, view.viewport_height, settings_.pixel_error, settings_.triangle_budget),
                 &lod_stats_);
     fx::EffectChanges changes;
-    if (lod_.version() != built_version_) {
-        mesh_ = build_layer_prisms(lod_.mesh(), prisms_, &prism_stats_);
+    if (lod_.version() != built_version_ || !same_view(view, built_view_)) {
+        const fx::Frustum frustum(view.camera, double(view.viewport_width) / double(view.viewport_height));
+        builder_.build(lod_.mesh(), prisms_, mesh_, &prism_stats_, &frustum);
         built_version_ = lod_.version();
+        built_view_ = view;
         count_build();
         changes.mesh = true;
     }
