@@ -7,9 +7,9 @@
 //
 // Both are view-dependent: update() refines their LOD for the camera (TerrainLod: nothing for
 // the view of the previous frame, e.g. a camera that only turns) and builds the prisms of the
-// triangles in the view volume (culled to the frustum, into the same storage every frame) when
-// the LOD mesh or the view changed; otherwise it reports no change and the renderer uploads
-// nothing.
+// triangles in the view volume widened by a few degrees (culled to the frustum, into the same
+// storage every frame) when the LOD mesh changed or the camera turned out of that volume;
+// otherwise it reports no change and the renderer uploads nothing.
 // They live in world coordinates (transform() is the identity).
 #pragma once
 
@@ -23,6 +23,20 @@
 #include "terrain/terrain_lod.hpp"
 
 namespace terrain {
+
+// The view volume prisms were culled to: the camera's, widened by a few degrees every way, so a
+// camera that turns a little (or moves without changing the LOD) keeps its prisms.
+class CulledView {
+public:
+    void set(const fx::EffectView& view);
+    bool covers(const fx::EffectView& view) const; // its view volume lies inside the widened one
+    const fx::Frustum& frustum() const { return frustum_; }
+
+private:
+    bool built_ = false;
+    fx::EffectView view_;
+    fx::Frustum frustum_{fx::Camera{}, 1.0};
+};
 
 struct LayerEffectSettings {
     double pixel_error = 2.0;         // the LOD's screen-space error bound (LodView::pixel_error)
@@ -58,7 +72,7 @@ private:
     fx::Bounds bounds_;
     fx::ScalarRange range_;
     std::uint64_t built_version_ = 0;
-    fx::EffectView built_view_{fx::Camera{}, 0, 0, 0.0}; // of the prisms in mesh() (none yet)
+    CulledView culled_;
     LayerPrismBuilder builder_;
     LayerPrismStats prism_stats_;
     LodStats lod_stats_;
@@ -90,7 +104,7 @@ private:
     LayerPrismOptions prisms_;
     fx::Bounds bounds_;
     std::uint64_t built_version_ = 0;
-    fx::EffectView built_view_{fx::Camera{}, 0, 0, 0.0}; // of the prisms in mesh() (none yet)
+    CulledView culled_;
     LayerPrismBuilder builder_;
     LayerPrismStats prism_stats_;
     LodStats lod_stats_;

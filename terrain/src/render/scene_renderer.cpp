@@ -386,15 +386,18 @@ struct SceneRenderer::Impl {
         if (s.kind == Kind::Aurora) stats.aurora = r, stats.aurora_prisms = aurora->prism_stats();
     }
 
-    // The effects to draw, fog and aurora first (they fill the scene), the rest far to near.
+    // The effects to draw, fog and aurora first (they fill the scene), the rest far to near;
+    // ties in the scene's order (std::sort with the slot as the last key: stable_sort would
+    // allocate a buffer every frame).
     const std::vector<Slot*>& draw_order() {
         order.clear();
         for (Slot& s : slots)
             if (s.simulated) order.push_back(&s);
-        std::stable_sort(order.begin(), order.end(), [](const Slot* a, const Slot* b) {
+        std::sort(order.begin(), order.end(), [](const Slot* a, const Slot* b) {
             const int ka = a->kind == Kind::Other ? 1 : 0, kb = b->kind == Kind::Other ? 1 : 0;
             if (ka != kb) return ka < kb;
-            return ka == 1 && a->distance > b->distance;
+            if (ka == 1 && a->distance != b->distance) return a->distance > b->distance;
+            return a < b;
         });
         return order;
     }
