@@ -6,7 +6,9 @@
 // which is itself the frame the embedding tests check against the scan-line reference.
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <fstream>
+#include <thread>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -198,4 +200,39 @@ TEST_CASE("A reload parses first, swaps on success, and keeps the clock, parent 
     const fx::Image reloaded = frame(fx);
     check_same("reload_fixed", reloaded, frame(reference));
     CHECK(fx_test::compare_images(reloaded, running).max_delta > 0.01f); // and it is the new fire
+}
+
+TEST_CASE("Config::parallel_for runs the effects' simulation on the host's job system, frames unchanged",
+          "[gl][embedding][runtime]") {
+    fx_test::gl_context();
+    // The host's job system: two threads, the odd tasks on the second.
+    struct Jobs {
+        std::atomic<int> calls{0}, tasks{0};
+    } jobs;
+    fx::ParallelFor parallel;
+    parallel.host_context = &jobs;
+    parallel.run = [](void* host, std::size_t count, fx::ParallelFor::Task task, void* context) {
+        Jobs& j = *static_cast<Jobs*>(host);
+        ++j.calls;
+        std::thread other([&] {
+            for (std::size_t i = 1; i < count; i += 2) task(context, i), ++j.tasks;
+        });
+        for (std::size_t i = 0; i < count; i += 2) task(context, i), ++j.tasks;
+        other.join();
+    };
+    const std::string file = write_scene("runtime_parallel.json", "");
+    cellfx::Module serial;
+    serial.init(cellfx::Config(file, kW, kH));
+    cellfx::Config config(file, kW, kH);
+    config.parallel_for = parallel;
+    cellfx::Module host_jobs;
+    host_jobs.init(config);
+    for (double t : {0.5, 0.8}) {
+        serial.set_time(t);
+        host_jobs.set_time(t);
+        check_same("parallel_for", frame(host_jobs), frame(serial));
+    }
+    CHECK(jobs.calls == 2);
+    CHECK(jobs.tasks == 4); // the fire and the search light, every frame
+    CHECK(host_jobs.stats().find("patrol")->status != terrain::EffectStatus::OutOfView);
 }
