@@ -204,7 +204,8 @@ TEST_CASE("Scene files declare volumes, with transfer functions inline or by fil
     CHECK(mist.density_mode == fx::VolumeDensity::Constant);
     CHECK(s.effects[0].absorb); // volumes absorb unless told otherwise
     CHECK(s.effects[0].albedo == 0.9);
-    CHECK(s.effects[0].transfer_function.points()[1].sigma == Approx(0.8)); // inline, extinction scaled
+    CHECK(s.effects[0].transfer_function.points()[1].sigma == Approx(0.4)); // inline, as written
+    CHECK(s.effects[0].extinction_scale == 2.0);
     const auto& smoke = std::get<fx::VolumeParams>(s.effects[1].params);
     CHECK(smoke.shape == fx::VolumeShape::Sphere);
     CHECK(smoke.density_mode == fx::VolumeDensity::Noise); // a "noise" object makes it noise

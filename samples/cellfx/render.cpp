@@ -245,12 +245,6 @@ fx::TransferFunction default_transfer_function() {
                                 /*normalized=*/true);
 }
 
-fx::TransferFunction scale_extinction(const fx::TransferFunction& tf, double k) {
-    std::vector<fx::TransferPoint> points = tf.points();
-    for (fx::TransferPoint& p : points) p.sigma *= k;
-    return fx::TransferFunction(std::move(points), tf.normalized());
-}
-
 } // namespace
 
 int run_render(const std::vector<std::string>& args) {
@@ -308,7 +302,7 @@ int run_render(const std::vector<std::string>& args) {
     if (parsed.has("density")) {
         const double k = parse_double(parsed.get("density"), "--density");
         if (k < 0.0) throw fx::Error("--density must not be negative");
-        job.tf = scale_extinction(job.tf, k);
+        job.tf = job.tf.scaled_extinction(k);
     }
     const fx::Bounds bounds = fx::mesh_bounds(mesh);
     job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);

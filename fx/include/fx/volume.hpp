@@ -78,7 +78,8 @@ public:
     // lacks, a density "field" on a box, ...).
     explicit Volume(const VolumeParams& params = {});
 
-    const char* type_name() const override { return "volume"; }
+    static constexpr const char* kTypeName = "volume"; // type_name(): cellfx::Module::effect<E>() compares it
+    const char* type_name() const override { return kTypeName; }
     bool animated() const override;
     ScalarRange scalar_range() const override;
 

@@ -161,26 +161,24 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
     return path;
 }
 
-// A transfer function given by file name or inline ({"points": [[s, r, g, b, sigma], ...]}),
-// its extinction scaled by "extinction_scale".
+// A transfer function given by file name or inline ({"points": [[s, r, g, b, sigma], ...]}).
 fx::TransferFunction load_transfer_function(Section& s, const std::string& base_dir) {
-    fx::TransferFunction tf;
     if (s.has("transfer_function") && s.at("transfer_function").is_object()) {
         // Errors name the key path as the source: "fx.json: effects[0].transfer_function: points[1]: ...".
-        tf = fx::TransferFunction::parse_json(s.at("transfer_function").dump(), s.source() + ": " + s.child("transfer_function"));
-    } else {
-        const std::string file = resolve(base_dir, s.string("transfer_function"));
-        try {
-            tf = fx::TransferFunction::read_json(file);
-        } catch (const fx::Error& e) {
-            throw s.error("transfer_function", e.what());
-        }
+        return fx::TransferFunction::parse_json(s.at("transfer_function").dump(), s.source() + ": " + s.child("transfer_function"));
     }
+    const std::string file = resolve(base_dir, s.string("transfer_function"));
+    try {
+        return fx::TransferFunction::read_json(file);
+    } catch (const fx::Error& e) {
+        throw s.error("transfer_function", e.what());
+    }
+}
+
+double parse_extinction_scale(Section& s) {
     const double k = s.number("extinction_scale", 1.0);
     if (k < 0.0) throw s.error("extinction_scale", "must not be negative");
-    std::vector<fx::TransferPoint> points = tf.points();
-    for (fx::TransferPoint& p : points) p.sigma *= k;
-    return fx::TransferFunction(std::move(points), tf.normalized());
+    return k;
 }
 
 HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const std::string& base_dir,
@@ -260,6 +258,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
     }
     fog.prisms.density_scale = s.positive("density_scale", 1.0);
     fog.transfer_function = load_transfer_function(s, base_dir);
+    fog.extinction_scale = parse_extinction_scale(s);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
     fog.albedo = s.number("albedo", fog.albedo);
@@ -290,6 +289,7 @@ AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
     }
     a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
     a.transfer_function = load_transfer_function(s, base_dir);
+    a.extinction_scale = parse_extinction_scale(s);
     a.path = parse_path(s, "path", fx::RenderPath::Mip);
     a.pixel_error = s.positive("pixel_error", 4.0);
     a.enabled = s.boolean("enabled", true);
@@ -463,6 +463,7 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
         e.light = parse_light(s.object("light"));
     }
     e.transfer_function = load_transfer_function(s, base_dir);
+    e.extinction_scale = parse_extinction_scale(s);
     s.finish();
     // The effect's own checks (cross-parameter rules), named by the entry.
     try {
