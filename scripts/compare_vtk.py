@@ -22,7 +22,9 @@ the colour is c(s), o(s) = sigma(s)*u, and u = 1/max(sigma) keeps o in [0, 1] fo
 it in 8 bits.
 
 Timing: per mapper one warm-up frame of view 0 (building the mapper's structures), then one frame
-per view: vtkRenderWindow.Render() and WaitForCompletion() (glFinish), wall time, median.
+per view: vtkRenderWindow.Render() and WaitForCompletion() (glFinish), wall time, median. With
+--seconds S a mapper stops after the first view that ends past S seconds of timed frames (ZSweep
+takes minutes per frame on a million tetrahedra); the table says over how many views it ran.
 """
 import argparse
 import json
@@ -138,6 +140,8 @@ def main():
     parser.add_argument("--images", required=True, help="cellfx bench render --images directory; VTK's go there too")
     parser.add_argument("--renderers", default="vtk-pt,vtk-zsweep,vtk-bunyk")
     parser.add_argument("--out-json", help="write VTK's figures here")
+    parser.add_argument("--seconds", type=float, default=0.0,
+                        help="per mapper, stop timing views once this many seconds are spent (0: all views)")
     args = parser.parse_args()
 
     with open(args.json) as f:
@@ -186,7 +190,11 @@ def main():
             return 1e3 * (time.perf_counter() - start)
 
         first = frame(views[0])
-        times = [frame(v) for v in views]
+        times = []
+        for v in views:
+            times.append(frame(v))
+            if args.seconds > 0 and sum(times) > 1e3 * args.seconds:
+                break
         frame(views[0])
         grab = vtk.vtkWindowToImageFilter()
         grab.SetInput(window)
@@ -204,7 +212,7 @@ def main():
         results.append({"name": name, "ms": times, "median_ms": ms, "cells_per_second": cells / (ms * 1e-3),
                         "first_frame_ms": first, "mean_difference_percent_vs_scanline": diff})
         log(f"  {name:<12} {ms:10.2f} ms/frame  {cells / (ms * 1e-3):12.4g} cells/s  first {first:.0f} ms  "
-            f"view 0 vs cellfx scan-line: mean |diff| {diff:.2f}% of peak")
+            f"{len(times)} of {len(views)} views; view 0 vs cellfx scan-line: mean |diff| {diff:.2f}% of peak")
 
     if args.out_json:
         with open(args.out_json, "w") as f:
@@ -212,17 +220,17 @@ def main():
 
     # Everything side by side: cellfx's renderers, then VTK's, with ratios of cells/s.
     by_name = {r["name"]: r for r in results}
-    rows = [(r["name"], r["median_ms"], r["cells_per_second"]) for r in run["renderers"]]
-    rows += [(r["name"], r["median_ms"], r["cells_per_second"]) for r in results]
+    rows = [(r["name"], r["median_ms"], r["cells_per_second"], len(r["ms"])) for r in run["renderers"]]
+    rows += [(r["name"], r["median_ms"], r["cells_per_second"], len(r["ms"])) for r in results]
     pt = by_name.get("vtk-pt", {}).get("cells_per_second")
     zs = by_name.get("vtk-zsweep", {}).get("cells_per_second")
     print()
     print(f"{run['mesh']['files'][0]}: {cells} cells {run['mesh']['cell_types']}, {width}x{height}, "
           f"{len(views)} views; cells/s against the mesh's own cells")
-    print(f"  {'renderer':<30} {'ms/frame':>10} {'cells/s':>12} {'x VTK PT':>9} {'x ZSweep':>9}")
-    for name, ms, cps in rows:
+    print(f"  {'renderer':<30} {'ms/frame':>10} {'cells/s':>12} {'x VTK PT':>9} {'x ZSweep':>9} {'views':>6}")
+    for name, ms, cps, timed in rows:
         ratio = lambda ref: f"{cps / ref:9.2f}" if ref else f"{'-':>9}"
-        print(f"  {name:<30} {ms:10.2f} {cps:12.4g} {ratio(pt)} {ratio(zs)}")
+        print(f"  {name:<30} {ms:10.2f} {cps:12.4g} {ratio(pt)} {ratio(zs)} {timed:6d}")
     failed = [r["name"] for r in run["renderers"] if not r.get("check", {}).get("passed", True)]
     if failed:
         print("  cellfx frames outside their tolerance: " + ", ".join(failed))

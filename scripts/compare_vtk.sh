@@ -7,11 +7,13 @@
 #   e.g. bash scripts/compare_vtk.sh /work/shared/data/spx/spx.inp --sort xmpvo,centroid
 # Installs python3-vtk9, xvfb and xauth if missing (scripts/setup.sh vtk). Writes the JSON, the
 # mesh as VTK (cellfx convert) and view 0 of every renderer as PNG into
-# $CELLFX_COMPARE_OUT (default out/compare_vtk/<mesh name>). Exit status: cellfx's (1 if a frame
-# failed its check). Never part of the test suite: docs/performance.md, "Against VTK".
+# $CELLFX_COMPARE_OUT (default out/compare_vtk/<mesh name>). CELLFX_VTK_SECONDS=S stops each VTK
+# mapper's timing after the view that passes S seconds (ZSweep takes minutes per frame on a
+# million tetrahedra). Exit status: cellfx's (1 if a frame failed its check). Never part of the
+# test suite: docs/performance.md, "Against VTK".
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-[ $# -ge 1 ] || { sed -n '2,12p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,14p' "$0"; exit 2; }
 
 files=("$1"); shift
 if [ $# -ge 1 ] && [ "${1#--}" = "$1" ]; then files+=("$1"); shift; fi
@@ -33,5 +35,6 @@ status=0
 field="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["mesh"]["field"])' "$out/cellfx.json")"
 "$cellfx" convert "${files[@]}" --scalar "$field" --out "$out/mesh.vtk"
 xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 "$root/scripts/compare_vtk.py" \
-  --json "$out/cellfx.json" --mesh "$out/mesh.vtk" --images "$out/images" --out-json "$out/vtk.json"
+  --json "$out/cellfx.json" --mesh "$out/mesh.vtk" --images "$out/images" --out-json "$out/vtk.json" \
+  --seconds "${CELLFX_VTK_SECONDS:-0}"
 exit "$status"
