@@ -133,6 +133,34 @@ def difference(a, b):
     return 100.0 * abs(a - b)[covered].mean() / peak
 
 
+def write_markdown(path, run, results, pt, zs):
+    """One row per renderer: the figures of both JSONs, ratios of cells/s against PT and ZSweep."""
+    mesh = run["mesh"]
+    types = ", ".join(f"{n:,} {t}" for t, n in mesh["cell_types"].items())
+    lines = [f"{' + '.join(os.path.basename(f) for f in mesh['files'])}, field {mesh['field']}: {types}; "
+             f"{run['image']['width']}x{run['image']['height']}, {len(run['views'])} views",
+             "",
+             "| renderer | ms/frame | cells/s | × VTK PT | × ZSweep | CPU ms | GPU ms | bytes/cell | check (worst mean, % of peak) | views |",
+             "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: |"]
+    def ratio(cps, ref):
+        return f"{cps / ref:.2f}" if ref else "—"
+    def num(x, fmt="{:.0f}"):
+        return "—" if x is None else fmt.format(x)
+    for r in run["renderers"]:
+        check = r.get("check")
+        verdict = "reference" if check is None else \
+            ("ok " if check["passed"] else "FAIL ") + f"{max(f['mean_percent'] for f in check['frames']):.3f}"
+        lines.append(f"| {r['name']} | {r['median_ms']:.0f} | {r['cells_per_second']:.3g} | "
+                     f"{ratio(r['cells_per_second'], pt)} | {ratio(r['cells_per_second'], zs)} | {num(r['cpu_ms'])} | "
+                     f"{num(r['gpu_ms'])} | {r['bytes_per_cell']:.0f} | {verdict} | {len(r['ms'])} |")
+    for r in results:
+        lines.append(f"| {r['name']} | {r['median_ms']:.0f} | {r['cells_per_second']:.3g} | "
+                     f"{ratio(r['cells_per_second'], pt)} | {ratio(r['cells_per_second'], zs)} | — | — | — | "
+                     f"{r['mean_difference_percent_vs_scanline']:.2f}% vs scan-line, view 0 | {len(r['ms'])} |")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--json", required=True, help="cellfx bench render --json output")
@@ -140,6 +168,7 @@ def main():
     parser.add_argument("--images", required=True, help="cellfx bench render --images directory; VTK's go there too")
     parser.add_argument("--renderers", default="vtk-pt,vtk-zsweep,vtk-bunyk")
     parser.add_argument("--out-json", help="write VTK's figures here")
+    parser.add_argument("--markdown", help="write the side-by-side table here as Markdown")
     parser.add_argument("--seconds", type=float, default=0.0,
                         help="per mapper, stop timing views once this many seconds are spent (0: all views)")
     args = parser.parse_args()
@@ -231,6 +260,8 @@ def main():
     for name, ms, cps, timed in rows:
         ratio = lambda ref: f"{cps / ref:9.2f}" if ref else f"{'-':>9}"
         print(f"  {name:<30} {ms:10.2f} {cps:12.4g} {ratio(pt)} {ratio(zs)} {timed:6d}")
+    if args.markdown:
+        write_markdown(args.markdown, run, results, pt, zs)
     failed = [r["name"] for r in run["renderers"] if not r.get("check", {}).get("passed", True)]
     if failed:
         print("  cellfx frames outside their tolerance: " + ", ".join(failed))

@@ -36,5 +36,6 @@ field="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]
 "$cellfx" convert "${files[@]}" --scalar "$field" --out "$out/mesh.vtk"
 xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 "$root/scripts/compare_vtk.py" \
   --json "$out/cellfx.json" --mesh "$out/mesh.vtk" --images "$out/images" --out-json "$out/vtk.json" \
+  --markdown "$out/table.md" \
   --seconds "${CELLFX_VTK_SECONDS:-0}"
 exit "$status"
