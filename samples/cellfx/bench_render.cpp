@@ -209,6 +209,7 @@ struct Run {
     std::map<std::string, std::vector<double>> stages; // per-stage figures per view
     std::vector<Check> checks;
     double setup_ms = 0.0, first_ms = 0.0, bytes_per_cell = 0.0;
+    fx::Image view0; // the timed frame of view 0
     bool passed() const {
         return std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed; });
     }
@@ -224,10 +225,144 @@ fx::OpticalModel model_of(fx::RenderPath path) {
     return fx::OpticalModel::EmissionAbsorption;
 }
 
+// What every renderer draws: the mesh, its field and transfer function, the orbit's views.
+struct Scene {
+    const fx::CellMesh& mesh;
+    const std::string& field_name;
+    const fx::ScalarField& field;
+    const fx::TransferFunction& tf;
+    const std::vector<fx::Camera>& cameras;
+    int width, height;
+};
+
+using References = std::map<fx::OpticalModel, std::vector<fx::Image>>; // per model, per view
+
+// The scan-line renderer on every view: its timed row (emission-absorption), and the frames of
+// each of `models` that the GPU paths are checked against.
+Run run_scanline(const Scene& sc, unsigned threads, const std::vector<fx::OpticalModel>& models, References& references) {
+    Run run;
+    run.label = run.path = "scanline";
+    auto t = Clock::now();
+    const fx::ScanlineRenderer scanline(sc.mesh);
+    run.setup_ms = ms_since(t);
+    fx::ScanlineOptions so;
+    so.threads = threads;
+    t = Clock::now();
+    scanline.render(sc.cameras[0], sc.width, sc.height, sc.field, sc.tf, so);
+    run.first_ms = ms_since(t);
+    for (const fx::Camera& cam : sc.cameras) {
+        for (const fx::OpticalModel model : models) {
+            so.model = model;
+            fx::ScanlineStats stats;
+            t = Clock::now();
+            references[model].push_back(scanline.render(cam, sc.width, sc.height, sc.field, sc.tf, so, &stats));
+            const double ms = ms_since(t);
+            if (model != fx::OpticalModel::EmissionAbsorption) continue; // the references alone
+            run.ms.push_back(ms);
+            run.cpu_ms.push_back(ms);
+            run.stages["transform ms"].push_back(1e3 * stats.seconds_transform);
+            run.stages["y-buckets ms"].push_back(1e3 * stats.seconds_y_buckets);
+            run.stages["scan ms"].push_back(1e3 * stats.seconds_scan);
+            run.stages["threads"].push_back(stats.threads);
+            run.bytes_per_cell = std::max(run.bytes_per_cell, double(stats.memory.renderer_total()) / double(sc.mesh.cell_count()));
+        }
+    }
+    run.view0 = references[fx::OpticalModel::EmissionAbsorption].front();
+    return run;
+}
+
+// One GPU path (with `sort` for the absorption paths) on every view, drawn into `target` (bound
+// for drawing), timed with `query`; each frame checked against the scan-line frame of its model.
+Run run_gpu_path(const Scene& sc, fx::RenderPath path, const fx::SortMethod* sort, fx::gl::RenderTarget& target,
+                 const fx::gl::Query& query, const References& references) {
+    Run run;
+    run.path = run.label = fx::render_path_name(path);
+    fx::CellRenderOptions options;
+    if (sort) {
+        options.sort = *sort;
+        run.sort = fx::sort_method_name(*sort);
+        run.label += " (" + run.sort + ")";
+    }
+    run.model = model_of(path);
+    run.tol = tolerance_for(run.path);
+    const auto t = Clock::now();
+    fx::CellRenderer renderer(sc.mesh, sc.field_name, sc.tf);
+    run.setup_ms = ms_since(t);
+    fx::CellRenderStats stats;
+    double cpu = 0.0, gpu = 0.0;
+    const auto frame = [&](const fx::Camera& cam) {
+        const auto start = Clock::now();
+        target.clear(glm::vec4(0.0f));
+        glBeginQuery(GL_TIME_ELAPSED, query.id());
+        stats = renderer.render(cam, fx::Viewport{0, 0, sc.width, sc.height}, path, options);
+        glEndQuery(GL_TIME_ELAPSED);
+        cpu = ms_since(start);
+        glFinish();
+        const double wall = ms_since(start);
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(query.id(), GL_QUERY_RESULT, &ns);
+        gpu = double(ns) * 1e-6;
+        return wall;
+    };
+    run.first_ms = frame(sc.cameras[0]);
+    for (std::size_t k = 0; k < sc.cameras.size(); ++k) {
+        run.ms.push_back(frame(sc.cameras[k]));
+        run.cpu_ms.push_back(cpu);
+        run.gpu_ms.push_back(gpu);
+        run.stages["draw calls"].push_back(double(stats.draw_calls));
+        if (path == fx::RenderPath::Pcp) run.stages["batches"].push_back(double(stats.batches));
+        if (sort) {
+            run.stages["sort ms"].push_back(stats.sort_ms);
+            run.stages["subdivision ms"].push_back(stats.subdivision_ms);
+            run.stages["projection ms"].push_back(stats.projection_ms);
+            run.stages["sort cycles"].push_back(double(stats.sort_cycles));
+        }
+        fx::Image image = target.read();
+        run.checks.push_back(check_frame(image, references.at(run.model)[k], path == fx::RenderPath::Pcp, run.tol));
+        if (k == 0) run.view0 = std::move(image);
+    }
+    run.bytes_per_cell = double(renderer.gpu_bytes()) / double(sc.mesh.cell_count());
+    return run;
+}
+
 nlohmann::json vec_json(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
-nlohmann::json median_or_null(const std::vector<double>& v) {
-    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(median(v));
+nlohmann::json run_json(const Run& r, std::size_t cells) {
+    const auto median_or_null = [](const std::vector<double>& v) {
+        return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(median(v));
+    };
+    nlohmann::json o = {{"name", r.label},
+                        {"path", r.path},
+                        {"model", model_name(r.model)},
+                        {"ms", r.ms},
+                        {"median_ms", median(r.ms)},
+                        {"cells_per_second", double(cells) / (median(r.ms) * 1e-3)},
+                        {"cpu_ms", median_or_null(r.cpu_ms)},
+                        {"gpu_ms", median_or_null(r.gpu_ms)},
+                        {"first_frame_ms", r.first_ms},
+                        {"setup_ms", r.setup_ms},
+                        {"bytes_per_cell", r.bytes_per_cell}};
+    if (!r.sort.empty()) o["sort"] = r.sort;
+    for (const auto& [name, values] : r.stages) o["stages"][name] = median(values);
+    if (!r.checks.empty()) {
+        o["check"] = {{"tolerance", {{"mean_percent", r.tol.mean}, {"pixel_percent", r.tol.pixel}, {"share_percent", r.tol.share}}},
+                      {"passed", r.passed()}};
+        for (const Check& c : r.checks)
+            o["check"]["frames"].push_back({{"peak", c.peak}, {"mean_percent", c.mean}, {"max_percent", c.max},
+                                            {"share_percent", c.share}, {"finite", c.finite}, {"passed", c.passed}});
+    }
+    return o;
+}
+
+// "absorption (xmpvo)" → "absorption_xmpvo"
+std::string file_name(const std::string& label) {
+    std::string name;
+    for (const char ch : label) {
+        if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-') name += ch;
+        else if (!name.empty() && name.back() != '_') name += '_';
+    }
+    if (!name.empty() && name.back() == '_') name.pop_back();
+    return name;
 }
 
 void print_row(const Run& r, std::size_t cells) {
@@ -316,41 +451,12 @@ int bench_render(const std::vector<std::string>& args) {
                 width, height, views, kElevationDegrees, views, kFovDegrees, orbit.distance, orbit.radius);
 
     // The scan-line renderer first: its timed row, and the references every GPU frame is checked against.
-    std::map<fx::OpticalModel, std::vector<fx::Image>> references;
-    std::vector<Run> runs;
-    {
-        Run run;
-        run.label = run.path = "scanline";
-        auto t = Clock::now();
-        const fx::ScanlineRenderer scanline(mesh);
-        run.setup_ms = ms_since(t);
-        fx::ScanlineOptions so;
-        so.threads = threads;
-        t = Clock::now();
-        scanline.render(cameras[0], width, height, field, tf, so);
-        run.first_ms = ms_since(t);
-        std::vector<fx::OpticalModel> models = {fx::OpticalModel::EmissionAbsorption};
-        for (const fx::RenderPath p : paths)
-            if (std::find(models.begin(), models.end(), model_of(p)) == models.end()) models.push_back(model_of(p));
-        for (const fx::Camera& cam : cameras) {
-            for (const fx::OpticalModel model : models) {
-                so.model = model;
-                fx::ScanlineStats stats;
-                t = Clock::now();
-                references[model].push_back(scanline.render(cam, width, height, field, tf, so, &stats));
-                const double ms = ms_since(t);
-                if (model != fx::OpticalModel::EmissionAbsorption) continue; // the references alone
-                run.ms.push_back(ms);
-                run.cpu_ms.push_back(ms);
-                run.stages["transform ms"].push_back(1e3 * stats.seconds_transform);
-                run.stages["y-buckets ms"].push_back(1e3 * stats.seconds_y_buckets);
-                run.stages["scan ms"].push_back(1e3 * stats.seconds_scan);
-                run.stages["threads"].push_back(stats.threads);
-                run.bytes_per_cell = std::max(run.bytes_per_cell, double(stats.memory.renderer_total()) / double(cells));
-            }
-        }
-        runs.push_back(run);
-    }
+    const Scene scene{mesh, input.field, field, tf, cameras, width, height};
+    std::vector<fx::OpticalModel> models = {fx::OpticalModel::EmissionAbsorption};
+    for (const fx::RenderPath p : paths)
+        if (std::find(models.begin(), models.end(), model_of(p)) == models.end()) models.push_back(model_of(p));
+    References references;
+    std::vector<Run> runs = {run_scanline(scene, threads, models, references)};
 
     std::optional<fx::HeadlessContext> context;
     if (!paths.empty()) context.emplace();
@@ -368,60 +474,15 @@ int bench_render(const std::vector<std::string>& args) {
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target->framebuffer());
         glViewport(0, 0, width, height);
     }
-    std::vector<fx::Image> first_frames(1, references[fx::OpticalModel::EmissionAbsorption][0]);
     for (const fx::RenderPath path : paths) {
         const bool sorted = path == fx::RenderPath::Absorption || path == fx::RenderPath::AbsorptionExact;
         for (std::size_t s = 0; s < (sorted ? sorts.size() : 1); ++s) {
-            Run run;
-            run.path = run.label = fx::render_path_name(path);
-            if (sorted) run.sort = fx::sort_method_name(sorts[s]), run.label += " (" + run.sort + ")";
-            run.model = model_of(path);
-            run.tol = tolerance_for(run.path);
-            auto t = Clock::now();
-            fx::CellRenderer renderer(mesh, input.field, tf);
-            run.setup_ms = ms_since(t);
-            fx::CellRenderOptions options;
-            if (sorted) options.sort = sorts[s];
-            const auto frame = [&](const fx::Camera& cam, fx::CellRenderStats& stats, double& cpu, double& gpu) {
-                const auto start = Clock::now();
-                target->clear(glm::vec4(0.0f));
-                glBeginQuery(GL_TIME_ELAPSED, query->id());
-                stats = renderer.render(cam, fx::Viewport{0, 0, width, height}, path, options);
-                glEndQuery(GL_TIME_ELAPSED);
-                cpu = ms_since(start);
-                glFinish();
-                const double wall = ms_since(start);
-                GLuint64 ns = 0;
-                glGetQueryObjectui64v(query->id(), GL_QUERY_RESULT, &ns);
-                gpu = double(ns) * 1e-6;
-                return wall;
-            };
-            fx::CellRenderStats stats;
-            double cpu = 0.0, gpu = 0.0;
-            run.first_ms = frame(cameras[0], stats, cpu, gpu);
-            for (int k = 0; k < views; ++k) {
-                run.ms.push_back(frame(cameras[k], stats, cpu, gpu));
-                run.cpu_ms.push_back(cpu);
-                run.gpu_ms.push_back(gpu);
-                run.stages["draw calls"].push_back(double(stats.draw_calls));
-                if (path == fx::RenderPath::Pcp) run.stages["batches"].push_back(double(stats.batches));
-                if (sorted) {
-                    run.stages["sort ms"].push_back(stats.sort_ms);
-                    run.stages["subdivision ms"].push_back(stats.subdivision_ms);
-                    run.stages["projection ms"].push_back(stats.projection_ms);
-                    run.stages["sort cycles"].push_back(double(stats.sort_cycles));
-                }
-                const fx::Image image = target->read();
-                if (k == 0) first_frames.push_back(image);
-                run.checks.push_back(check_frame(image, references[run.model][std::size_t(k)], path == fx::RenderPath::Pcp, run.tol));
-            }
-            run.bytes_per_cell = double(renderer.gpu_bytes()) / double(cells);
-            print_row(run, cells);
+            runs.push_back(run_gpu_path(scene, path, sorted ? &sorts[s] : nullptr, *target, *query, references));
+            print_row(runs.back(), cells);
             std::fflush(stdout);
-            runs.push_back(std::move(run));
         }
     }
-    // The exact visibility sort against the approximate one, per absorption path and in total.
+    // The exact visibility sort against the approximate one, per absorption path.
     for (const Run& exact : runs)
         for (const Run& centroid : runs)
             if (exact.path == centroid.path && exact.sort == "xmpvo" && centroid.sort == "centroid")
@@ -442,16 +503,10 @@ int bench_render(const std::vector<std::string>& args) {
 
     if (!images.empty()) {
         std::filesystem::create_directories(images);
-        for (std::size_t i = 0; i < runs.size(); ++i) {
-            fx::Image image = first_frames[i];
+        for (const Run& r : runs) {
+            fx::Image image = r.view0;
             fx::composite_over(image, glm::vec3(0.0f));
-            std::string name; // "absorption (xmpvo)" → absorption_xmpvo
-            for (const char ch : runs[i].label) {
-                if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-') name += ch;
-                else if (!name.empty() && name.back() != '_') name += '_';
-            }
-            if (!name.empty() && name.back() == '_') name.pop_back();
-            fx::write_png(image, images + "/" + name + ".png");
+            fx::write_png(image, images + "/" + file_name(r.label) + ".png");
         }
         std::printf("\n  wrote view 0 of every renderer to %s/\n", images.c_str());
     }
@@ -476,30 +531,7 @@ int bench_render(const std::vector<std::string>& args) {
         for (const fx::Camera& c : cameras)
             j["views"].push_back({{"eye", vec_json(c.eye)}, {"target", vec_json(c.target)}, {"up", vec_json(c.up)},
                                   {"fov_y_degrees", c.fov_y_degrees}, {"near", c.near_distance}, {"far", c.far_distance}});
-        for (const Run& r : runs) {
-            nlohmann::json o = {{"name", r.label},
-                                {"path", r.path},
-                                {"model", model_name(r.model)},
-                                {"ms", r.ms},
-                                {"median_ms", median(r.ms)},
-                                {"cells_per_second", double(cells) / (median(r.ms) * 1e-3)},
-                                {"cpu_ms", median_or_null(r.cpu_ms)},
-                                {"gpu_ms", median_or_null(r.gpu_ms)},
-                                {"first_frame_ms", r.first_ms},
-                                {"setup_ms", r.setup_ms},
-                                {"bytes_per_cell", r.bytes_per_cell}};
-            if (!r.sort.empty()) o["sort"] = r.sort;
-            for (const auto& [name, values] : r.stages) o["stages"][name] = median(values);
-            if (!r.checks.empty()) {
-                o["check"] = {{"tolerance", {{"mean_percent", r.tol.mean}, {"pixel_percent", r.tol.pixel},
-                                             {"share_percent", r.tol.share}}},
-                              {"passed", r.passed()}};
-                for (const Check& c : r.checks)
-                    o["check"]["frames"].push_back({{"peak", c.peak}, {"mean_percent", c.mean}, {"max_percent", c.max},
-                                                    {"share_percent", c.share}, {"finite", c.finite}, {"passed", c.passed}});
-            }
-            j["renderers"].push_back(o);
-        }
+        for (const Run& r : runs) j["renderers"].push_back(run_json(r, cells));
         j["passed"] = passed;
         std::ofstream out(parsed.get("json"));
         out << j.dump(2) << "\n";
