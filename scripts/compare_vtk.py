@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """VTK 9.1's unstructured-grid volume mappers on the mesh, orbit, image size and transfer function
 of a `cellfx bench render --json` run, timed the same way, printed beside cellfx's renderers.
+`compare_vtk.py --summary DIR...` prints the ratios of several compare_vtk.sh runs as one table.
 
 Run by scripts/compare_vtk.sh (which makes the JSON, the mesh file and the images it reads), under
 xvfb-run: VTK 9.1 on Debian needs an X display even for offscreen windows.
@@ -161,7 +162,35 @@ def write_markdown(path, run, results, pt, zs):
         f.write("\n".join(lines) + "\n")
 
 
+def summary(directories):
+    """The issue's ratios across meshes: cells/s of each cellfx path over VTK PT's (scan-line also
+    over ZSweep's), from the cellfx.json and vtk.json that compare_vtk.sh left in each directory."""
+    paths = ["absorption-exact (xmpvo)", "pcp-exact", "absorption (xmpvo)", "mip", "pcp"]
+    print("| mesh | cells | " + " | ".join(f"{p} × PT" for p in paths) +
+          " | scan-line × PT | scan-line × ZSweep | xmpvo / centroid, absorption-exact frame |")
+    print("| --- | ---: |" + " ---: |" * (len(paths) + 3))
+    for d in directories:
+        with open(os.path.join(d, "cellfx.json")) as f:
+            run = json.load(f)
+        with open(os.path.join(d, "vtk.json")) as f:
+            vtk_run = json.load(f)
+        cps = {r["name"]: r["cells_per_second"] for r in run["renderers"] + vtk_run["renderers"]}
+        ms = {r["name"]: r["median_ms"] for r in run["renderers"]}
+        pt, zs = cps.get("vtk-pt"), cps.get("vtk-zsweep")
+        def ratio(name, ref):
+            return f"{cps[name] / ref:.2f}" if name in cps and ref else "—"
+        exact = ms.get("absorption-exact (xmpvo)"), ms.get("absorption-exact (centroid)")
+        sorts = f"{exact[0] / exact[1]:.2f}" if all(exact) else "—"
+        mesh = run["mesh"]
+        types = ", ".join(f"{n:,} {t}" for t, n in mesh["cell_types"].items())
+        print(f"| {os.path.basename(os.path.normpath(d))} | {types} | " + " | ".join(ratio(p, pt) for p in paths) +
+              f" | {ratio('scanline', pt)} | {ratio('scanline', zs)} | {sorts} |")
+    return 0
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--summary":
+        return summary(sys.argv[2:])
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--json", required=True, help="cellfx bench render --json output")
     parser.add_argument("--mesh", required=True, help="the mesh as VTK legacy (cellfx convert)")
