@@ -2,6 +2,8 @@
 # Installs the Debian packages cellfx builds and runs with. Idempotent: quiet when all are
 # present. Run as root on Debian 12 (or with sudo available).
 #   scripts/setup.sh fuzz   also installs clang and libFuzzer for scripts/fuzz.sh
+#   scripts/setup.sh vtk    also installs VTK 9.1's Python bindings for scripts/compare_vtk.sh
+#                           (conflicts with python3-paraview: both ship vtkmodules)
 set -euo pipefail
 
 packages=(
@@ -17,7 +19,8 @@ packages=(
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev llvm-14) ;; # libFuzzer, sanitizer runtimes, llvm-symbolizer
-    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz)" >&2; exit 2 ;;
+    vtk) packages+=(python3-vtk9 python3-numpy xvfb xauth) ;; # the VTK comparison (VTK 9.1 needs an X display)
+    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz, vtk)" >&2; exit 2 ;;
   esac
 done
 
