@@ -2,14 +2,17 @@
 // reads scene JSON: later sections (effects) are added here.
 #include <cmath>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <variant>
 
 #include <nlohmann/json.hpp>
 
+#include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
+#include "io/input_file.hpp"
 #include "terrain/scene.hpp"
 
 namespace terrain {
@@ -44,9 +47,7 @@ public:
         }
         const json& v = at(key);
         if (!v.is_number()) throw error(key, "expected a number");
-        const double d = v.get<double>();
-        if (!std::isfinite(d)) throw error(key, "is not finite");
-        return d;
+        return bounded(key, v.get<double>());
     }
     double positive(const std::string& key, std::optional<double> fallback = std::nullopt) {
         const double d = number(key, fallback);
@@ -86,9 +87,8 @@ public:
         if (!v.is_array() || v.size() != std::size_t(N)) throw error(key, "expected an array of " + std::to_string(N) + " numbers");
         glm::vec<N, double> out;
         for (int k = 0; k < N; ++k) {
-            if (!v[k].is_number() || !std::isfinite(v[k].get<double>()))
-                throw error(key, "expected an array of " + std::to_string(N) + " finite numbers");
-            out[k] = v[k].get<double>();
+            if (!v[k].is_number()) throw error(key, "expected an array of " + std::to_string(N) + " finite numbers");
+            out[k] = bounded(key, v[k].get<double>());
         }
         return out;
     }
@@ -110,6 +110,18 @@ public:
     const std::string& source() const { return source_; }
 
 private:
+    // Every number a scene holds is finite and within ±kMaxCoordinate: coordinates, sizes and
+    // rates beyond it only overflow the float arithmetic of the render paths.
+    double bounded(const std::string& key, double d) const {
+        if (!std::isfinite(d)) throw error(key, "is not finite");
+        if (std::abs(d) > fx::kMaxCoordinate) {
+            std::ostringstream text;
+            text << d;
+            throw error(key, "is " + text.str() + ", beyond ±1e18: cellfx renders coordinates and sizes up to 1e18");
+        }
+        return d;
+    }
+
     const json& j_;
     std::string path_;
     const std::string& source_;
@@ -128,10 +140,22 @@ void validate_effect_params(const fx::CampfireParams& p) { fx::Campfire check(p)
 void validate_effect_params(const fx::SearchLightParams& p) { fx::SearchLight check(p); }
 void validate_effect_params(const fx::LaserConeParams& p) { fx::LaserCone check(p); }
 
-std::string resolve(const std::string& base_dir, const std::string& file) {
-    const std::filesystem::path p(file);
-    return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).lexically_normal().string();
-}
+// The files a scene names: resolved against its folder; a transfer function named by many
+// effects is read once.
+struct SceneFiles {
+    std::string base_dir;
+    std::map<std::string, fx::TransferFunction> transfer_functions; // by resolved path
+
+    std::string resolve(const std::string& file) const {
+        const std::filesystem::path p(file);
+        return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).lexically_normal().string();
+    }
+    const fx::TransferFunction& transfer_function(const std::string& path) {
+        const auto found = transfer_functions.find(path);
+        if (found != transfer_functions.end()) return found->second;
+        return transfer_functions.emplace(path, fx::TransferFunction::read_json(path)).first->second;
+    }
+};
 
 NoiseSpec parse_noise(Section s) {
     NoiseSpec n;
@@ -158,11 +182,11 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
     return path;
 }
 
-fx::TransferFunction load_transfer_function(Section& s, const std::string& base_dir) {
-    const std::string file = resolve(base_dir, s.string("transfer_function"));
+fx::TransferFunction load_transfer_function(Section& s, SceneFiles& files) {
+    const std::string file = files.resolve(s.string("transfer_function"));
     fx::TransferFunction tf;
     try {
-        tf = fx::TransferFunction::read_json(file);
+        tf = files.transfer_function(file);
     } catch (const fx::Error& e) {
         throw s.error("transfer_function", e.what());
     }
@@ -173,7 +197,7 @@ fx::TransferFunction load_transfer_function(Section& s, const std::string& base_
     return fx::TransferFunction(std::move(points), tf.normalized());
 }
 
-HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const std::string& base_dir,
+HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const SceneFiles& files,
                             double spacing, glm::dvec2 origin) {
     HeightFieldOptions options;
     options.spacing = spacing;
@@ -182,7 +206,7 @@ HeightField load_height_map(Section& s, const std::string& key, Section& options
     if (options.vertical_scale == 0.0) throw options_from.error("vertical_scale", "must not be zero");
     options.vertical_offset = options_from.number("vertical_offset", 0.0);
     options.pad = options_from.boolean("pad", false);
-    const std::string file = resolve(base_dir, s.string(key));
+    const std::string file = files.resolve(s.string(key));
     try {
         return read_height_field_png(file, options);
     } catch (const fx::Error& e) {
@@ -190,7 +214,7 @@ HeightField load_height_map(Section& s, const std::string& key, Section& options
     }
 }
 
-HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
+HeightField parse_terrain(Section s, const SceneFiles& files, bool& draw) {
     HeightField ground;
     draw = s.boolean("draw", true);
     if (s.has("height_map") == s.has("procedural"))
@@ -198,7 +222,7 @@ HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
     if (s.has("height_map")) {
         const double spacing = s.positive("spacing", 1.0);
         const glm::dvec2 origin = s.vector<2>("origin", glm::dvec2(0.0));
-        ground = load_height_map(s, "height_map", s, base_dir, spacing, origin);
+        ground = load_height_map(s, "height_map", s, files, spacing, origin);
     } else {
         Section p = s.object("procedural");
         const long size = p.integer("size", 257, 3, 16385);
@@ -207,18 +231,22 @@ HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
         const glm::dvec2 origin = p.vector<2>("origin", glm::dvec2(0.0));
         const NoiseSpec noise = parse_noise(p.object("noise"));
         p.finish();
-        ground = make_height_field(int(size), spacing, make_noise_generator(noise), origin);
+        try {
+            ground = make_height_field(int(size), spacing, make_noise_generator(noise), origin);
+        } catch (const fx::Error& e) {
+            throw p.error("", e.what());
+        }
     }
     s.finish();
     return ground;
 }
 
-FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_dir) {
+FogSpec parse_fog(Section s, const HeightField& ground, SceneFiles& files) {
     FogSpec fog;
     if (s.has("thickness_map") == s.has("valley")) throw s.error("", "give either thickness_map or valley");
     if (s.has("thickness_map")) {
         Section m = s.object("thickness_map");
-        fog.thickness = load_height_map(m, "file", m, base_dir, ground.spacing, ground.origin);
+        fog.thickness = load_height_map(m, "file", m, files, ground.spacing, ground.origin);
         m.finish();
         try {
             require_same_grid(ground, fog.thickness, "the fog map");
@@ -249,7 +277,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
         throw s.error("density", "expected \"layer_height\" or \"noise\", got \"" + density + "\"");
     }
     fog.prisms.density_scale = s.positive("density_scale", 1.0);
-    fog.transfer_function = load_transfer_function(s, base_dir);
+    fog.transfer_function = load_transfer_function(s, files);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
     fog.enabled = s.boolean("enabled", true);
@@ -257,7 +285,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
     return fog;
 }
 
-AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
+AuroraSpec parse_aurora(Section s, SceneFiles& files) {
     AuroraSpec a;
     a.ceiling = s.number("ceiling");
     const long size = s.integer("size", 129, 3, 16385);
@@ -276,8 +304,12 @@ AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
         c.seed = std::uint32_t(k.integer("seed", c.seed, 0, 0xffffffffL));
         k.finish();
     }
-    a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
-    a.transfer_function = load_transfer_function(s, base_dir);
+    try {
+        a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
+    } catch (const fx::Error& e) {
+        throw s.error("", e.what());
+    }
+    a.transfer_function = load_transfer_function(s, files);
     a.path = parse_path(s, "path", fx::RenderPath::Mip);
     a.pixel_error = s.positive("pixel_error", 4.0);
     a.enabled = s.boolean("enabled", true);
@@ -365,7 +397,7 @@ fx::LaserConeParams parse_laser_cone(Section& s) {
     return p;
 }
 
-EffectSpec parse_effect(Section s, const std::string& base_dir) {
+EffectSpec parse_effect(Section s, SceneFiles& files) {
     EffectSpec e;
     const std::string type = s.string("type");
     if (type == "campfire") e.params = parse_campfire(s);
@@ -380,7 +412,7 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
     e.enabled = s.boolean("enabled", true);
     e.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     e.absorb = s.boolean("absorb", false);
-    e.transfer_function = load_transfer_function(s, base_dir);
+    e.transfer_function = load_transfer_function(s, files);
     s.finish();
     // The effect's own checks (cross-parameter rules), named by the entry.
     try {
@@ -391,26 +423,31 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
     return e;
 }
 
-std::vector<EffectSpec> parse_effects(Section& root, const std::string& base_dir) {
+std::vector<EffectSpec> parse_effects(Section& root, SceneFiles& files) {
     const json& list = root.at("effects");
     if (!list.is_array()) throw root.error("effects", "expected an array of effects");
+    fx::check_limit(fx::Limit::Effects, list.size(), root.source() + ": effects");
     std::vector<EffectSpec> effects;
+    std::map<std::string, std::size_t> index_of; // name → entry: a linear search was quadratic
+    std::uint64_t cells = 0;
     for (std::size_t i = 0; i < list.size(); ++i) {
         const std::string where = "effects[" + std::to_string(i) + "]";
-        EffectSpec e = parse_effect(Section(list[i], where, root.source()), base_dir);
+        EffectSpec e = parse_effect(Section(list[i], where, root.source()), files);
         if (e.name == "fog" || e.name == "aurora")
             throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is reserved for the scene's " + e.name +
                             " section");
-        for (std::size_t k = 0; k < effects.size(); ++k)
-            if (effects[k].name == e.name)
-                throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is already the name of effects[" +
-                                std::to_string(k) + "] (give each effect its own \"name\")");
+        const auto [it, fresh] = index_of.emplace(e.name, i);
+        if (!fresh)
+            throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is already the name of effects[" +
+                            std::to_string(it->second) + "] (give each effect its own \"name\")");
+        cells += std::visit([](const auto& params) { return fx::max_cells(params); }, e.params);
+        fx::check_limit(fx::Limit::SceneCells, cells, root.source() + ": effects[0.." + std::to_string(i) + "] together");
         effects.push_back(std::move(e));
     }
     return effects;
 }
 
-CameraPath parse_camera_path(Section s) {
+CameraPath parse_camera_path(Section s, const fx::Camera& base) {
     CameraPath path;
     path.loop = s.boolean("loop", false);
     const json& keys = s.at("keys");
@@ -422,6 +459,10 @@ CameraPath parse_camera_path(Section s) {
         key.eye = k.vector<3>("eye");
         key.target = k.vector<3>("target");
         if (key.eye == key.target) throw k.error("target", "is the eye position");
+        fx::Camera at_key = base; // the scene camera's up, fov, near and far from this key
+        at_key.eye = key.eye;
+        at_key.target = key.target;
+        at_key.validate(s.source() + ": " + s.child("keys[" + std::to_string(i) + "]"));
         if (!path.keys.empty() && !(key.time > path.keys.back().time))
             throw k.error("time", "must be later than the previous key's");
         k.finish();
@@ -447,12 +488,14 @@ fx::Camera parse_camera(Section s) {
     if (!(cam.far_distance > cam.near_distance)) throw s.error("far", "must be beyond near");
     if (cam.eye == cam.target) throw s.error("target", "is the eye position");
     s.finish();
+    cam.validate(s.source() + ": camera");
     return cam;
 }
 
 } // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source, const std::string& base_dir) {
+    fx::io::check_json_encoding(text, source);
     json doc;
     try {
         doc = json::parse(text.begin(), text.end());
@@ -462,11 +505,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         throw fx::Error(source + ": JSON error: " + e.what());
     }
     Section root(doc, "", source);
+    SceneFiles files{base_dir, {}};
     Scene scene;
     scene.source = source;
     scene.description = root.string("description", std::string());
     if (root.has("terrain")) {
-        scene.ground = parse_terrain(root.object("terrain"), base_dir, scene.draw_terrain);
+        scene.ground = parse_terrain(root.object("terrain"), files, scene.draw_terrain);
     } else if (!root.has("effects")) {
         throw root.error("terrain", "is required (a scene without effects needs a terrain)");
     }
@@ -481,17 +525,22 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     }
     if (root.has("fog")) {
         if (!scene.has_terrain()) throw root.error("fog", "needs a terrain (the fog map lies on its grid)");
-        scene.fog = parse_fog(root.object("fog"), scene.ground, base_dir);
+        scene.fog = parse_fog(root.object("fog"), scene.ground, files);
     }
-    if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), base_dir);
-    if (root.has("effects")) scene.effects = parse_effects(root, base_dir);
+    if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), files);
+    if (root.has("effects")) scene.effects = parse_effects(root, files);
     scene.camera = parse_camera(root.object("camera"));
-    if (root.has("camera_path")) scene.camera_path = parse_camera_path(root.object("camera_path"));
+    if (root.has("camera_path")) scene.camera_path = parse_camera_path(root.object("camera_path"), scene.camera);
     if (root.has("render")) {
         Section r = root.object("render");
         scene.width = int(r.integer("width", scene.width, 1, 16384));
         scene.height = int(r.integer("height", scene.height, 1, 16384));
         scene.background = r.vector<3>("background", scene.background);
+        for (int k = 0; k < 3; ++k)
+            if (!(scene.background[k] >= 0.0 && scene.background[k] <= 1.0))
+                throw r.error("background", "colour components must be in [0, 1]");
+        fx::check_limit(fx::Limit::ImagePixels, std::uint64_t(scene.width) * std::uint64_t(scene.height),
+                        source + ": render: a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image");
         r.finish();
     }
     if (root.has("surface")) {
@@ -530,11 +579,10 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
 }
 
 Scene load_scene(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw fx::Error(path + ": cannot open the scene file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+    const std::vector<char> text = fx::io::read_input_file(path, fx::Limit::JsonBytes, "scene file", [&](std::string_view head) {
+        fx::io::check_json_encoding(head, path);
+    });
+    return parse_scene(std::string_view(text.data(), text.size()), path, std::filesystem::path(path).parent_path().string());
 }
 
 } // namespace terrain
