@@ -352,6 +352,12 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
             CHECK(all_finite(out));
             CHECK(mean_value(out) > 0.0);
         }
+        // 1e31 per unit over 1e17 units: light past a float's range saturates, never Inf.
+        fx::CellMesh huge_box = fx_test::hex_box(1, 1, 1);
+        for (glm::dvec3& p : huge_box.points) p *= 1e17;
+        const std::string out = file("sigma_big_far.pfm");
+        require_accepted(cellfx(scanline(write_vtk("huge_box.vtk", huge_box), out, {"--tf", big, "--model", "emission"})));
+        CHECK(all_finite(out));
     }
     SECTION("a bow-tie hexahedron and a mesh of flat cells: refused by every path, info says why") {
         fx::CellMesh bow = fx_test::hex_box(1, 1, 1);

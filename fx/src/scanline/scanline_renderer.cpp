@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -607,7 +608,9 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         if (ctx_.model == OpticalModel::EmissionAbsorption) {
             out = glm::vec4(glm::vec3(acc.color), static_cast<float>(acc.alpha));
         } else {
-            out = glm::vec4(glm::vec3(sum), 0.0f);
+            // Emitted light has no upper bound (extinction up to 1e32 over a mesh of 1e18):
+            // the float image saturates at its largest value rather than turning infinite.
+            out = glm::vec4(glm::vec3(glm::min(sum, glm::dvec3(std::numeric_limits<float>::max()))), 0.0f);
         }
     };
     auto scalar = [&](const Fragment& f) { return f.q * (1.0 / dm.w(f.z)); }; // as Crossing::s
