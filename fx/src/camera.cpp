@@ -38,7 +38,6 @@ std::string vec(const glm::dvec3& v) { return "(" + number(v.x) + ", " + number(
 
 glm::dvec3 Camera::forward() const { return unit(target - eye); }
 glm::dvec3 Camera::right() const { return glm::normalize(glm::cross(forward(), unit(up))); }
-glm::dvec3 Camera::image_up() const { return glm::cross(right(), forward()); }
 
 glm::dmat4 Camera::view_matrix() const { return glm::lookAt(eye, target, unit(up)); }
 

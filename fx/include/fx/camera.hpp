@@ -30,9 +30,8 @@ struct Camera {
 
     bool orthographic() const { return ortho_height > 0.0; }
     glm::dvec3 forward() const; // unit view direction
-    // The unit right and up vectors of the image (up made orthogonal to forward()).
+    // The unit right vector of the image: forward() × up, with up of any length.
     glm::dvec3 right() const;
-    glm::dvec3 image_up() const;
 
     // Throws fx::Error, starting with `who` ("camera", "scene.json: camera"), unless the camera
     // can take a picture: every number finite and eye and target within ±kMaxCoordinate;

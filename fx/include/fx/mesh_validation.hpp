@@ -9,12 +9,13 @@
 // One policy for every reader and render path:
 // - Readers orient: every reader calls orient_cells() and notes how many cells it flipped
 //   (`cellfx info` prints it). Renderers still accept either winding (API-built meshes).
-// - Flat cells (zero volume) hold no medium: every path skips them.
+// - Flat cells (zero volume) hold no medium: the scan-line reference leaves them out, the
+//   projection paths' thickness through them is zero.
 // - Twisted cells have no inside a renderer could agree on: check_renderable() refuses the
 //   mesh, naming them; so does a mesh with no cell of positive volume.
 // - Overlapping cells within a block: the additive GPU paths (pcp, mip) add their media; the
-//   scan-line reference and the sorted absorption paths, which need cells that partition
-//   space, refuse the mesh with a message naming the cells.
+//   scan-line reference, which needs cells that partition each block, refuses the mesh with a
+//   message naming the cells (and the xmpvo sort stops at its sort-pairs budget).
 #pragma once
 
 #include <cstddef>

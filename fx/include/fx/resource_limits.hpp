@@ -5,8 +5,8 @@
 // fx::Error that names the input, the amount, the limit and how to raise it:
 //     big.vtk: line 5: POINTS needs 40,000,000 points, over the mesh-points limit of
 //     16,777,216 (raise it with --limit mesh-points=N or fx::ResourceLimits::mesh_points)
-// The defaults keep one `cellfx render` of any input well inside 8 GB; docs/robustness.md
-// has the table (input class, limit, what happens). A program that needs more raises the
+// The defaults are sized for a machine with 8 GB (docs/robustness.md has the table: input
+// class, limit, what happens). A program that needs more raises the
 // limits once, before it reads or renders anything:
 //     fx::ResourceLimits limits = fx::resource_limits();
 //     limits.mesh_cells = 100'000'000;
@@ -24,7 +24,7 @@
 namespace fx {
 
 struct ResourceLimits {
-    std::uint64_t file_bytes = std::uint64_t(4) << 30;  // one mesh, q or height-map file
+    std::uint64_t file_bytes = std::uint64_t(2) << 30;  // one mesh, q or height-map file
     std::uint64_t json_bytes = std::uint64_t(64) << 20; // one scene or transfer-function file
     std::uint64_t input_wait_seconds = 10;              // a pipe or device silent this long is an error
     std::uint64_t mesh_points = std::uint64_t(1) << 24; // points of one mesh (read, built or rendered)
