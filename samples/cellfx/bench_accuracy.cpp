@@ -271,9 +271,11 @@ BenchScene fog_scene(bool inside, bool quick) {
     if (fog.prisms.density != terrain::LayerDensity::LayerHeight)
         throw fx::Error("bench accuracy: fog_valley.json's density is expected to be layer_height");
     const double hi = fog.prisms.density_scale * fog.thickness.max_height();
-    auto fixed = [&](const fx::TransferFunction& tf) { return tf.normalized() ? tf.rescaled(0.0, hi) : tf; };
-    s.tf[model_index(fx::OpticalModel::EmissionAbsorption)] = fixed(fog.transfer_function);
-    s.tf[model_index(fx::OpticalModel::Maximum)] = fixed(mip_scene.fog->transfer_function);
+    const fx::ScalarRange range{0.0f, float(hi)};
+    s.tf[model_index(fx::OpticalModel::EmissionAbsorption)] =
+        terrain::drawn_transfer_function(fog.transfer_function, fog.extinction_scale, range);
+    s.tf[model_index(fx::OpticalModel::Maximum)] =
+        terrain::drawn_transfer_function(mip_scene.fog->transfer_function, mip_scene.fog->extinction_scale, range);
     s.background = scene.background;
     s.name = inside ? "fog valley, inside" : "fog valley, from above";
     char note[200];
@@ -309,10 +311,8 @@ BenchScene effect_scene(const std::string& id, const std::string& name, const st
     if (s.mesh.cell_count() == 0) throw fx::Error("bench accuracy: " + path + ": " + spec.name + " built no cells");
     s.field = effect->scalar_name();
     s.camera = fx::camera_in_frame(world_camera, effect->transform());
-    const fx::ScalarRange range = effect->scalar_range();
-    const double lo = range.lo, hi = std::max(double(range.hi), lo + 1e-6 * std::max(1.0, std::abs(lo)));
     const fx::TransferFunction tf =
-        spec.transfer_function.normalized() ? spec.transfer_function.rescaled(lo, hi) : spec.transfer_function;
+        terrain::drawn_transfer_function(spec.transfer_function, spec.extinction_scale, effect->scalar_range());
     for (int m = 0; m < 3; ++m) s.tf[m] = tf;
     // Scaled as on the other scenes: classic pcp's 8-bit target must not saturate, and the
     // brightest sample of the fire (2.4) or of a beam (0.08) is no picture for maximum.

@@ -221,16 +221,6 @@ fx::TransferFunction default_transfer_function() {
                                 /*normalized=*/true);
 }
 
-fx::TransferFunction scale_extinction(const fx::TransferFunction& tf, double k) {
-    std::vector<fx::TransferPoint> points = tf.points();
-    for (fx::TransferPoint& p : points) p.sigma *= k;
-    try {
-        return fx::TransferFunction(std::move(points), tf.normalized());
-    } catch (const fx::Error& e) {
-        throw fx::Error("--density " + format_number(k) + ": " + e.what());
-    }
-}
-
 } // namespace
 
 int run_render(const std::vector<std::string>& args) {
@@ -288,7 +278,11 @@ int run_render(const std::vector<std::string>& args) {
     if (parsed.has("density")) {
         const double k = parse_double(parsed.get("density"), "--density");
         if (k < 0.0) throw fx::Error("--density must not be negative");
-        job.tf = scale_extinction(job.tf, k);
+        try {
+            job.tf = job.tf.scaled_extinction(k);
+        } catch (const fx::Error& e) {
+            throw fx::Error("--density " + format_number(k) + ": " + e.what());
+        }
     }
     const fx::Bounds bounds = fx::mesh_bounds(mesh);
     job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);

@@ -61,6 +61,9 @@ public:
     // lo == hi (a constant field) gives the constant value the function has at its first s
     // (from above), as if the range were [lo, lo + ε]: the field's one value is its low end.
     TransferFunction rescaled(double lo, double hi) const;
+    // The same colours with every sigma multiplied by k (a scene's "extinction_scale"): k ≥ 0
+    // and finite, else fx::Error.
+    TransferFunction scaled_extinction(double k) const;
 
     // Values at s; at a step, the value from above (right-continuous).
     glm::dvec3 color(double s) const;

@@ -184,17 +184,23 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
 
 fx::TransferFunction load_transfer_function(Section& s, SceneFiles& files) {
     const std::string file = files.resolve(s.string("transfer_function"));
-    fx::TransferFunction tf;
     try {
-        tf = files.transfer_function(file);
+        return files.transfer_function(file);
     } catch (const fx::Error& e) {
         throw s.error("transfer_function", e.what());
     }
+}
+
+// The scale of `tf`'s extinction; the scaled function must still be one cellfx integrates.
+double parse_extinction_scale(Section& s, const fx::TransferFunction& tf) {
     const double k = s.number("extinction_scale", 1.0);
     if (k < 0.0) throw s.error("extinction_scale", "must not be negative");
-    std::vector<fx::TransferPoint> points = tf.points();
-    for (fx::TransferPoint& p : points) p.sigma *= k;
-    return fx::TransferFunction(std::move(points), tf.normalized());
+    try {
+        tf.scaled_extinction(k);
+    } catch (const fx::Error& e) {
+        throw s.error("extinction_scale", e.what());
+    }
+    return k;
 }
 
 HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const SceneFiles& files,
@@ -278,6 +284,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, SceneFiles& files) {
     }
     fog.prisms.density_scale = s.positive("density_scale", 1.0);
     fog.transfer_function = load_transfer_function(s, files);
+    fog.extinction_scale = parse_extinction_scale(s, fog.transfer_function);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
     fog.enabled = s.boolean("enabled", true);
@@ -310,6 +317,7 @@ AuroraSpec parse_aurora(Section s, SceneFiles& files) {
         throw s.error("", e.what());
     }
     a.transfer_function = load_transfer_function(s, files);
+    a.extinction_scale = parse_extinction_scale(s, a.transfer_function);
     a.path = parse_path(s, "path", fx::RenderPath::Mip);
     a.pixel_error = s.positive("pixel_error", 4.0);
     a.enabled = s.boolean("enabled", true);
@@ -413,6 +421,7 @@ EffectSpec parse_effect(Section s, SceneFiles& files) {
     e.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     e.absorb = s.boolean("absorb", false);
     e.transfer_function = load_transfer_function(s, files);
+    e.extinction_scale = parse_extinction_scale(s, e.transfer_function);
     s.finish();
     // The effect's own checks (cross-parameter rules), named by the entry.
     try {
