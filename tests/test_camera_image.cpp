@@ -24,6 +24,39 @@ TEST_CASE("camera spec parses every key and rejects bad ones", "[camera]") {
     CHECK_THROWS_AS(fx::Camera::parse("eye=nan,0,1"), fx::Error);
 }
 
+TEST_CASE("a camera that cannot take a picture is refused, naming why, and up of any length works", "[camera]") {
+    const fx::Camera base = fx::Camera::parse("eye=3,-2,5,target=0,1,0,up=0,0,1,fov=50");
+    CHECK_NOTHROW(base.validate("camera"));
+    auto refused = [&](auto change, const std::string& what) {
+        fx::Camera c = base;
+        change(c);
+        CHECK_THROWS_WITH(c.validate("test"), Catch::StartsWith("test: ") && Catch::Contains(what));
+    };
+    refused([](fx::Camera& c) { c.up = {0, 0, 0}; }, "up is zero");
+    refused([](fx::Camera& c) { c.up = c.target - c.eye; }, "parallel to the view direction");
+    refused([](fx::Camera& c) { c.up = 1e-300 * (c.target - c.eye); }, "parallel to the view direction");
+    refused([](fx::Camera& c) { c.ortho_height = -5.0; }, "ortho height -5 must be positive");
+    refused([](fx::Camera& c) { c.near_distance = 2e4; }, "not in front of far");
+    refused([](fx::Camera& c) { c.fov_y_degrees = 180.0; }, "fov 180");
+    refused([](fx::Camera& c) { c.eye.x = 1e19; }, "beyond");
+    CHECK_THROWS_WITH(fx::Camera::parse("ortho=-5"), Catch::Contains("ortho=-5: the height must be positive"));
+    // up is scaled before use: 1e-300 and 1e300 give the same rays as 1.
+    for (const double scale : {1e-300, 1e300}) {
+        fx::Camera c = base;
+        c.up *= scale;
+        CHECK_NOTHROW(c.validate("camera"));
+        const fx::Ray a = c.pixel_ray(10.5, 3.5, 64, 48), b = base.pixel_ray(10.5, 3.5, 64, 48);
+        CHECK(glm::length(a.direction - b.direction) < 1e-15);
+        CHECK(c.view_matrix() == base.view_matrix());
+    }
+    // Framing is scale-free: a box of 1e-20 is seen like a box of 1.
+    const fx::Camera tiny = fx::Camera::framing(glm::dvec3(0.0), glm::dvec3(1e-20));
+    const fx::Camera unit = fx::Camera::framing(glm::dvec3(0.0), glm::dvec3(1.0));
+    CHECK_NOTHROW(tiny.validate("camera"));
+    CHECK(glm::length(tiny.eye - tiny.target) == Approx(1e-20 * glm::length(unit.eye - unit.target)));
+    CHECK(tiny.near_distance == Approx(1e-20 * unit.near_distance));
+}
+
 TEST_CASE("pixel rays go through the pixel centres the projection matrix maps them to", "[camera]") {
     fx::Camera cam = fx::Camera::parse("eye=3,-2,5,target=0,1,0,up=0,0,1,fov=50");
     for (bool ortho : {false, true}) {

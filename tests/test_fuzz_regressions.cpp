@@ -81,7 +81,7 @@ TEST_CASE("Fuzz regressions and seeds: scene files", "[terrain][fuzz]") {
 
 TEST_CASE("A folder where a file belongs is an fx::Error, not bad_alloc", "[io][fuzz]") {
     const std::string folder = fx_test::source_path("content");
-    CHECK_THAT(fx_test::error_message([&] { fx::read_mesh(folder); }), Contains(folder + ": is a folder, not a file"));
+    CHECK_THAT(fx_test::error_message([&] { fx::read_mesh(folder); }), Contains(folder + ": is a folder, not a mesh file"));
     CHECK_THAT(fx_test::error_message([&] { fx::TransferFunction::read_json(folder); }), Contains(folder + ": is a folder"));
     CHECK_THAT(fx_test::error_message([&] { terrain::read_height_field_png(folder); }), Contains(folder + ": is a folder"));
 }

@@ -232,3 +232,83 @@ TEST_CASE("consistent tetrahedra on whole real meshes: no internal triangle left
         CHECK(children == Approx(parents).epsilon(1e-9));
     }
 }
+
+TEST_CASE("cell shapes are judged at any scale: positive, inverted, flat, twisted", "[mesh]") {
+    for (const double scale : {1e-25, 1e-9, 1.0, 1e9, 1e17}) {
+        INFO("scale " << scale);
+        fx::CellMesh mesh = fx_test::hex_box(1, 1, 1);
+        for (glm::dvec3& p : mesh.points) p = p * scale + glm::dvec3(3.0 * scale);
+        CHECK(fx::classify_cell(mesh, 0) == fx::CellShape::Positive);
+        std::uint32_t* h = mesh.cell_vertices(0);
+        std::swap_ranges(h, h + 4, h + 4);
+        CHECK(fx::classify_cell(mesh, 0) == fx::CellShape::Inverted);
+        std::swap_ranges(h, h + 4, h + 4);
+        std::swap(h[4], h[6]); // the top face half a turn round: a bow-tie
+        CHECK(fx::classify_cell(mesh, 0) == fx::CellShape::Twisted);
+        std::swap(h[4], h[6]);
+        for (int i = 4; i < 8; ++i) mesh.points[h[i]].z = mesh.points[h[0]].z;
+        CHECK(fx::classify_cell(mesh, 0) == fx::CellShape::Flat);
+    }
+}
+
+TEST_CASE("validation reports duplicates and cells on the same side of a shared face", "[mesh]") {
+    fx::CellMesh mesh = fx_test::hex_box(2, 1, 1);
+    CHECK(fx::validate_mesh(mesh).empty());
+    SECTION("a duplicate (any vertex order) and three copies of one cell") {
+        std::uint32_t v[8];
+        std::copy(mesh.cell_vertices(1), mesh.cell_vertices(1) + 8, v);
+        std::swap_ranges(v, v + 4, v + 4); // the same points, inverted: still the same cell
+        mesh.add_cell(fx::CellType::Hexahedron, v);
+        mesh.add_cell(fx::CellType::Hexahedron, mesh.cell_vertices(1));
+        const auto problems = fx::validate_mesh(mesh);
+        std::vector<std::string> duplicates;
+        for (const fx::MeshProblem& p : problems)
+            if (p.kind == fx::MeshProblemKind::Duplicate) duplicates.push_back(p.message);
+        REQUIRE(duplicates.size() == 2);
+        CHECK(duplicates[0] == "cell 2: cell 2 has the same points as cell 1");
+        CHECK(duplicates[1] == "cell 3: cell 3 has the same points as cell 1");
+    }
+    SECTION("a cell folded back onto its neighbour across their shared face") {
+        // Cell 1 mirrored through the face it shares with cell 0 (x = 0.5), kept positive.
+        fx::CellMesh folded = mesh;
+        std::uint32_t* h = folded.cell_vertices(1);
+        for (int i : {1, 2, 5, 6}) folded.points[h[i]].x = 0.0;
+        std::swap(h[0], h[1]), std::swap(h[3], h[2]), std::swap(h[4], h[5]), std::swap(h[7], h[6]);
+        REQUIRE(fx::classify_cell(folded, 1) == fx::CellShape::Positive);
+        const auto problems = fx::validate_mesh(folded);
+        bool overlapping = false;
+        for (const fx::MeshProblem& p : problems)
+            overlapping = overlapping || (p.kind == fx::MeshProblemKind::Overlapping && p.cell == 1);
+        CHECK(overlapping);
+    }
+    SECTION("overlapping blocks are not a problem: their media add") {
+        fx::CellMesh two = mesh;
+        two.begin_block("copy");
+        two.add_cell(fx::CellType::Hexahedron, two.cell_vertices(0));
+        CHECK(fx::validate_mesh(two).empty());
+    }
+}
+
+TEST_CASE("check_renderable refuses what no path can draw, naming the cells", "[mesh]") {
+    fx::CellMesh mesh = fx_test::hex_box(2, 1, 1);
+    CHECK(fx::check_renderable(mesh, "m").size() == 2);
+    fx::CellMesh twisted = mesh;
+    std::swap(twisted.cell_vertices(1)[4], twisted.cell_vertices(1)[6]);
+    CHECK_THROWS_WITH(fx::check_renderable(twisted, "m.vtk"), Catch::StartsWith("m.vtk: 1 cell folds over itself (cell 1)"));
+    fx::CellMesh flat = mesh;
+    for (glm::dvec3& p : flat.points) p.y = 0.0;
+    CHECK_THROWS_WITH(fx::check_renderable(flat, "m.vtk"), Catch::Contains("all 2 cells have zero volume"));
+    fx::CellMesh far = mesh;
+    far.points[3].z = 2e18;
+    CHECK_THROWS_WITH(fx::check_renderable(far, "m.vtk"), Catch::Contains("point 3") && Catch::Contains("beyond ±1e+18"));
+    fx::CellMesh one_flat = mesh; // a flat cell among solid ones: drawn as nothing, not refused
+    const std::uint32_t flat_tet[4] = {0, 1, 1, 2};
+    one_flat.add_cell(fx::CellType::Tetra, flat_tet);
+    const auto shapes = fx::check_renderable(one_flat, "m");
+    CHECK(shapes[2] == fx::CellShape::Flat);
+    fx::CellMesh nan_field = mesh;
+    nan_field.scalars = {{"p", std::vector<float>(mesh.point_count(), 1.0f)}};
+    nan_field.scalars[0].values[5] = std::nanf("");
+    CHECK_THROWS_WITH(fx::check_scalar_field(nan_field, nan_field.scalars[0], "m.vtk"),
+                      Catch::StartsWith("m.vtk: field 'p' is NaN at point 5;"));
+}

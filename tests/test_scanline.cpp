@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fx/resource_limits.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/segment_integral.hpp"
 #include "fx/synthetic_meshes.hpp"
@@ -324,8 +325,81 @@ TEST_CASE("bad input is rejected with a message", "[scanline]") {
     CHECK_THROWS_WITH(renderer.render(cam, 8, 8, short_field, tf), Catch::Contains("'short' has 1 values"));
     fx::ScalarField nan_field = mesh.scalars[0];
     nan_field.values[3] = std::nanf("");
-    CHECK_THROWS_WITH(renderer.render(cam, 8, 8, nan_field, tf), Catch::Contains("value 3 is not finite"));
+    CHECK_THROWS_WITH(renderer.render(cam, 8, 8, nan_field, tf), Catch::Contains("'s' is NaN at point 3"));
     fx::CellMesh bad = mesh;
     bad.points[2].x = std::numeric_limits<double>::infinity();
     CHECK_THROWS_WITH(fx::ScanlineRenderer(bad), Catch::Contains("point 2"));
+}
+
+TEST_CASE("cells of either winding render alike, flat cells hold nothing, overlapping cells are refused", "[scanline]") {
+    fx::CellMesh mesh;
+    append_box(mesh, "box", glm::dvec3(-1.0), glm::dvec3(1.0), {2, 2, 2});
+    set_scalar_field(mesh, "s", [](const glm::dvec3& p) { return 0.5 + 0.2 * p.x + 0.1 * p.y * p.z; });
+    const fx::TransferFunction tf({{0.0, {0.9, 0.4, 0.1}, 0.3}, {1.0, {0.1, 0.5, 1.0}, 1.5}});
+    const fx::Camera cam = perspective({2.2, 3.1, 3.7}, {0, 0, 0}, 40.0);
+    const fx::Image reference = fx::ScanlineRenderer(mesh).render(cam, 40, 32, mesh.scalars[0], tf);
+
+    SECTION("inverted cells, not oriented: the same picture") {
+        fx::CellMesh mixed = mesh;
+        for (std::size_t c = 0; c < mixed.cell_count(); c += 2) {
+            std::uint32_t* v = mixed.cell_vertices(c);
+            std::swap_ranges(v, v + 4, v + 4);
+        }
+        // Only zero-length segments between crossings at one depth may order differently.
+        CHECK_IMAGES_CLOSE(fx::ScanlineRenderer(mixed).render(cam, 40, 32, mixed.scalars[0], tf), reference, 1e-6, "scanline_mixed_winding");
+    }
+    SECTION("a flat cell through the box changes nothing") {
+        fx::CellMesh with_flat = mesh;
+        const std::uint32_t base = static_cast<std::uint32_t>(with_flat.points.size());
+        for (int i = 0; i < 8; ++i) {
+            with_flat.points.push_back(glm::dvec3(i & 1 ? 0.8 : -0.8, i & 2 ? 0.8 : -0.8, 0.1));
+            with_flat.scalars[0].values.push_back(0.5f);
+        }
+        const std::uint32_t v[8] = {base, base + 1, base + 3, base + 2, base + 4, base + 5, base + 7, base + 6};
+        with_flat.add_cell(fx::CellType::Hexahedron, v);
+        CHECK_IMAGES_CLOSE(fx::ScanlineRenderer(with_flat).render(cam, 40, 32, with_flat.scalars[0], tf), reference, 0.0,
+                           "scanline_flat_cell");
+    }
+    SECTION("a duplicate cell is refused when the renderer is built, naming both") {
+        fx::CellMesh dup = mesh;
+        dup.add_cell(fx::CellType::Hexahedron, dup.cell_vertices(3));
+        CHECK_THROWS_WITH(fx::ScanlineRenderer(dup), Catch::Contains("cell 8 has the same points as cell 3"));
+    }
+    SECTION("cells overlapping without a shared face are found along the rays") {
+        fx::CellMesh over = mesh;
+        append_box(over, "box", glm::dvec3(-0.5), glm::dvec3(0.5), {1, 1, 1});
+        over.blocks.pop_back(); // the second box in the first block: one grid with overlapping cells
+        over.blocks[0].cell_count = static_cast<std::uint32_t>(over.cell_count());
+        set_scalar_field(over, "s", [](const glm::dvec3&) { return 0.5; });
+        const fx::ScanlineRenderer renderer(over);
+        CHECK_THROWS_WITH(renderer.render(cam, 40, 32, over.scalars[0], tf),
+                          Catch::Contains("block 0") && Catch::Contains("cell 8") && Catch::Contains("overlap"));
+        // As a block of its own, the same cell adds its medium instead.
+        fx::CellMesh grids = mesh;
+        append_box(grids, "inner", glm::dvec3(-0.5), glm::dvec3(0.5), {1, 1, 1});
+        set_scalar_field(grids, "s", [](const glm::dvec3&) { return 0.5; });
+        CHECK_NOTHROW(fx::ScanlineRenderer(grids).render(cam, 40, 32, grids.scalars[0], tf));
+    }
+    SECTION("a worker over the frame-bytes budget: an fx::Error on the caller's thread, and the renderer still works") {
+        // 400 layers seen face on: every pixel of a 64-pixel line crosses 401 faces, 25,664
+        // fragments a line; 1.6 MB leaves the frame's small fixed buffers room but a worker
+        // about 10,000 fragments.
+        fx::CellMesh deep;
+        append_box(deep, "deep", glm::dvec3(0.0), glm::dvec3(1.0), {1, 1, 400});
+        set_scalar_field(deep, "s", [](const glm::dvec3& p) { return p.z; });
+        fx::Camera down = perspective({0.5, 0.5, 3.0}, {0.5, 0.5, 0.5}, 40.0);
+        down.ortho_height = 0.05;
+        fx::ScanlineOptions two;
+        two.threads = 2;
+        const fx::ScanlineRenderer renderer(deep);
+        const fx::Image before = renderer.render(down, 64, 4, deep.scalars[0], tf, two);
+        const fx::ResourceLimits saved = fx::resource_limits();
+        fx::ResourceLimits tight = saved;
+        tight.frame_bytes = 1600000;
+        fx::set_resource_limits(tight);
+        CHECK_THROWS_WITH(renderer.render(down, 64, 4, deep.scalars[0], tf, two),
+                          Catch::Contains("scan line") && Catch::Contains("frame-bytes limit"));
+        fx::set_resource_limits(saved);
+        CHECK_IMAGES_CLOSE(renderer.render(down, 64, 4, deep.scalars[0], tf, two), before, 0.0, "scanline_after_budget");
+    }
 }

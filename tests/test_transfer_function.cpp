@@ -89,10 +89,33 @@ TEST_CASE("rescaled maps the s range, mirrors for lo > hi, keeps steps", "[trans
     CHECK(b.color.r == Approx(a.color.r).epsilon(1e-12));
     CHECK(b.alpha == Approx(a.alpha).epsilon(1e-12));
 
-    CHECK_THROWS_WITH(tf.rescaled(2.0, 2.0), Catch::Contains("lo != hi"));
-    CHECK_THROWS_AS(tf.rescaled(0.0, INFINITY), fx::Error);
+    // A constant field: the value at the function's first s, from above (here the step's
+    // first point is s = 0 alone, so its own value), as if the range were [2, 2 + ε].
+    const fx::TransferFunction constant = tf.rescaled(2.0, 2.0);
+    REQUIRE(constant.points().size() == 1);
+    CHECK(constant.points()[0].s == 2.0);
+    CHECK(constant.sigma(2.0) == tf.sigma(0.0));
+    CHECK(constant.color(-5.0) == tf.color(0.0));
+    const fx::TransferFunction stepped({{0.0, dvec3(1, 0, 0), 1.0}, {0.0, dvec3(0, 1, 0), 3.0}, {1.0, dvec3(0), 5.0}}, true);
+    CHECK(stepped.rescaled(7.0, 7.0).sigma(7.0) == 3.0); // from above
+    CHECK_THROWS_WITH(tf.rescaled(0.0, INFINITY), Catch::Contains("the range of a field must be finite"));
     const fx::TransferFunction single = fx::TransferFunction::constant(dvec3(1), 1.0).rescaled(4.0, 6.0);
     CHECK(single.points()[0].s == 5.0);
+}
+
+TEST_CASE("values every path can integrate: sigma up to 1e32, colour up to 1e6", "[transfer]") {
+    CHECK_NOTHROW(fx::TransferFunction({{0.0, dvec3(1e6), 1e32}}));
+    CHECK_THROWS_WITH(fx::TransferFunction({{0.0, dvec3(1), 1e300}}), Catch::Contains("points[0]: sigma = 1e+300 is over 1e+32"));
+    CHECK_THROWS_WITH(fx::TransferFunction({{0.0, dvec3(1, 2e6, 1), 1.0}}), Catch::Contains("points[0]: g = 2e+06 is over 1e+06"));
+    CHECK_THROWS_WITH(parse(R"({"points": [[0, 1, 1, 1, 1], [1, 1, 1, 1, 1e33]]})"),
+                      Catch::StartsWith("fire.json: points[1]: sigma"));
+}
+
+TEST_CASE("JSON that is not UTF-8 says so before parsing", "[transfer]") {
+    CHECK_THROWS_WITH(parse(std::string("\xFF\xFE{\0}\0", 6)), Catch::StartsWith("fire.json: is UTF-16 text"));
+    CHECK_THROWS_WITH(parse(std::string("\xFE\xFF\0{\0}", 6)), Catch::StartsWith("fire.json: is UTF-16 text"));
+    CHECK_THROWS_WITH(parse(std::string("{\0\"\0", 4)), Catch::Contains("byte 1 is a NUL"));
+    CHECK_NOTHROW(parse("\xEF\xBB\xBF{\"points\": [[0, 1, 1, 1, 1]]}")); // a UTF-8 byte order mark is fine
 }
 
 TEST_CASE("JSON form parses points, steps and normalized", "[transfer]") {

@@ -1,6 +1,8 @@
 #include "fx/camera.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -8,13 +10,62 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
 
 namespace fx {
 
-glm::dvec3 Camera::forward() const { return glm::normalize(target - eye); }
+namespace {
 
-glm::dmat4 Camera::view_matrix() const { return glm::lookAt(eye, target, up); }
+// v / |v| for any finite non-zero v: scaled by its largest component first, so that neither
+// 1e-300 nor 1e300 under- or overflows the squares.
+glm::dvec3 unit(const glm::dvec3& v) {
+    const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return glm::normalize(v / m);
+}
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+std::string vec(const glm::dvec3& v) { return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")"; }
+
+} // namespace
+
+glm::dvec3 Camera::forward() const { return unit(target - eye); }
+glm::dvec3 Camera::right() const { return glm::normalize(glm::cross(forward(), unit(up))); }
+
+glm::dmat4 Camera::view_matrix() const { return glm::lookAt(eye, target, unit(up)); }
+
+void Camera::validate(std::string_view who) const {
+    // Messages are built only on the way out: a frame's check allocates nothing.
+    const auto fail = [who](const std::string& what) { throw Error(std::string(who) + ": " + what); };
+    if (!finite(eye) || !finite(target) || !finite(up)) fail("eye, target and up must be finite");
+    for (const glm::dvec3* p : {&eye, &target}) {
+        if (std::max({std::abs(p->x), std::abs(p->y), std::abs(p->z)}) > kMaxCoordinate)
+            fail((p == &eye ? "eye " : "target ") + vec(*p) + " is beyond ±" + number(kMaxCoordinate) +
+                 ", the coordinates cellfx renders");
+    }
+    const glm::dvec3 d = target - eye;
+    if (d == glm::dvec3(0.0)) fail("eye and target coincide (at " + vec(eye) + ")");
+    if (up == glm::dvec3(0.0)) fail("up is zero");
+    // sin of the angle between up and the view direction.
+    if (!(glm::length(glm::cross(unit(d), unit(up))) >= 1e-6))
+        fail("up " + vec(up) + " is parallel to the view direction " + vec(unit(d)) +
+             " (choose an up that is not along the line from eye to target)");
+    if (!std::isfinite(ortho_height) || ortho_height < 0.0)
+        fail("ortho height " + number(ortho_height) + " must be positive (or 0 for a perspective camera)");
+    if (!orthographic() && !(fov_y_degrees > 0.0 && fov_y_degrees < 180.0))
+        fail("fov " + number(fov_y_degrees) + " must be in (0, 180) degrees");
+    if (!(near_distance > 0.0) || !std::isfinite(near_distance) || !std::isfinite(far_distance))
+        fail("near " + number(near_distance) + " must be positive and finite (and far finite)");
+    if (!(far_distance > near_distance))
+        fail("near " + number(near_distance) + " is not in front of far " + number(far_distance) + ": need 0 < near < far");
+}
 
 glm::dmat4 Camera::projection_matrix(double aspect) const {
     if (orthographic()) {
@@ -27,7 +78,7 @@ glm::dmat4 Camera::projection_matrix(double aspect) const {
 
 Ray Camera::pixel_ray(double x, double y, int width, int height) const {
     const glm::dvec3 f = forward();
-    const glm::dvec3 r = glm::normalize(glm::cross(f, up));
+    const glm::dvec3 r = right();
     const glm::dvec3 u = glm::cross(r, f);
     const double aspect = static_cast<double>(width) / height;
     // Normalised device coordinates of the point in [-1, 1].
@@ -72,7 +123,11 @@ Camera Camera::parse(std::string_view spec) {
         else if (key == "target") { need(3); cam.target = {values[0], values[1], values[2]}; }
         else if (key == "up") { need(3); cam.up = {values[0], values[1], values[2]}; }
         else if (key == "fov") { need(1); cam.fov_y_degrees = values[0]; cam.ortho_height = 0.0; }
-        else if (key == "ortho") { need(1); cam.ortho_height = values[0]; }
+        else if (key == "ortho") {
+            need(1);
+            if (!(values[0] > 0.0)) throw Error("camera: ortho=" + number(values[0]) + ": the height must be positive");
+            cam.ortho_height = values[0];
+        }
         else if (key == "near") { need(1); cam.near_distance = values[0]; }
         else if (key == "far") { need(1); cam.far_distance = values[0]; }
         else throw Error("camera: unknown key '" + key + "' (expected eye, target, up, fov, ortho, near, far)");
@@ -96,16 +151,7 @@ Camera Camera::parse(std::string_view spec) {
         pos = comma + 1;
     }
     flush();
-    if (glm::length(cam.target - cam.eye) <= 0.0) throw Error("camera: eye and target coincide");
-    if (glm::length(glm::cross(cam.target - cam.eye, cam.up)) <= 0.0) {
-        throw Error("camera: up is parallel to the view direction");
-    }
-    if (!cam.orthographic() && !(cam.fov_y_degrees > 0.0 && cam.fov_y_degrees < 180.0)) {
-        throw Error("camera: fov must be in (0, 180) degrees");
-    }
-    if (!(cam.near_distance > 0.0) || !(cam.far_distance > cam.near_distance)) {
-        throw Error("camera: need 0 < near < far");
-    }
+    cam.validate("camera");
     return cam;
 }
 
@@ -113,7 +159,10 @@ Camera Camera::framing(const glm::dvec3& lo, const glm::dvec3& hi, double fov_y_
     Camera cam;
     cam.fov_y_degrees = fov_y_degrees;
     cam.target = 0.5 * (lo + hi);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-12);
+    // Scale-free: a mesh of 1e-20 is framed like one of 1e15 (a single point gets a radius
+    // relative to its distance from the origin).
+    double radius = 0.5 * glm::length(hi - lo);
+    if (!(radius > 0.0)) radius = std::max(1e-6 * std::max({std::abs(cam.target.x), std::abs(cam.target.y), std::abs(cam.target.z)}), 1e-300);
     const double distance = radius / std::sin(0.5 * glm::radians(fov_y_degrees)) * 1.05;
     cam.eye = cam.target + glm::normalize(glm::dvec3(1.0, 0.8, 1.2)) * distance;
     cam.up = glm::dvec3(0.0, 0.0, 1.0);

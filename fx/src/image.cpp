@@ -12,6 +12,7 @@
 #include <stb_image_write.h>
 
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 
 namespace fx {
 
@@ -71,6 +72,8 @@ Image read_pfm(const std::string& path) {
     if (w <= 0 || h <= 0 || w > 65536 || h > 65536) throw Error(path + ": bad PFM size");
     if (scale >= 0.0) throw Error(path + ": big-endian PFM is not supported (scale must be negative)");
     in.get(); // the single whitespace after the scale
+    // The header alone must not decide the allocation: the image budget, then rows as they come.
+    check_limit(Limit::ImagePixels, std::uint64_t(w) * std::uint64_t(h), path + ": a " + std::to_string(w) + "x" + std::to_string(h) + " PFM");
     Image image(w, h);
     std::vector<float> row(static_cast<std::size_t>(w) * 3);
     for (int y = 0; y < h; ++y) {

@@ -4,6 +4,7 @@
 
 #include "fx/error.hpp"
 #include "fx/mesh_io.hpp"
+#include "fx/mesh_validation.hpp"
 
 namespace cellfx_cli {
 
@@ -15,6 +16,7 @@ MeshInput read_mesh_input(const ParsedArgs& parsed) {
     in.mesh = fx::read_mesh(in.files[0], in.files.size() > 1 ? in.files[1] : "");
     in.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (in.mesh.cell_count() == 0) throw fx::Error(in.files[0] + ": the mesh has no volume cells to render");
+    fx::check_renderable(in.mesh, in.files[0]);
     if (in.mesh.scalars.empty()) throw fx::Error(in.files[0] + ": the mesh has no point scalar field to render");
     in.field = parsed.get("scalar", in.mesh.scalars.front().name);
     if (!in.mesh.find_scalar(in.field)) {
@@ -22,6 +24,7 @@ MeshInput read_mesh_input(const ParsedArgs& parsed) {
         for (const fx::ScalarField& f : in.mesh.scalars) names += (names.empty() ? "" : ", ") + f.name;
         throw fx::Error("--scalar: no field '" + in.field + "' (the mesh has: " + names + ")");
     }
+    fx::check_scalar_field(in.mesh, *in.mesh.find_scalar(in.field), in.files[0]);
     return in;
 }
 
@@ -42,7 +45,11 @@ fx::TransferFunction transfer_function_option(const ParsedArgs& parsed, const fx
     if (parsed.has("density")) {
         const double k = parse_double(parsed.get("density"), "--density");
         if (k < 0.0) throw fx::Error("--density must not be negative");
-        tf = tf.scaled_extinction(k);
+        try {
+            tf = tf.scaled_extinction(k);
+        } catch (const fx::Error& e) {
+            throw fx::Error("--density " + format_number(k) + ": " + e.what());
+        }
     }
     return tf;
 }

@@ -1,10 +1,13 @@
 #include "options.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 
 namespace cellfx_cli {
 
@@ -73,6 +76,7 @@ void parse_size(const std::string& text, int& width, int& height) {
     if (width < 1 || height < 1 || width > 16384 || height > 16384) {
         throw fx::Error("--size: " + text + " is outside 1x1 .. 16384x16384");
     }
+    fx::check_limit(fx::Limit::ImagePixels, std::uint64_t(width) * std::uint64_t(height), "--size " + text);
 }
 
 glm::dvec3 parse_vec3(const std::string& text, const std::string& what) {
@@ -85,6 +89,29 @@ glm::dvec3 parse_vec3(const std::string& text, const std::string& what) {
         start = comma + 1;
     }
     return v;
+}
+
+glm::dvec3 parse_colour(const std::string& text, const std::string& what) {
+    const glm::dvec3 c = parse_vec3(text, what);
+    for (int i = 0; i < 3; ++i) {
+        if (!(c[i] >= 0.0 && c[i] <= 1.0)) throw fx::Error(what + ": '" + text + "': each of R, G, B must be in [0, 1]");
+    }
+    return c;
+}
+
+std::string format_number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+bool has_extension(const std::string& path, const std::string& extension) {
+    if (path.size() < extension.size()) return false;
+    for (std::size_t i = 0; i < extension.size(); ++i) {
+        const char c = path[path.size() - extension.size() + i];
+        if (std::tolower(static_cast<unsigned char>(c)) != std::tolower(static_cast<unsigned char>(extension[i]))) return false;
+    }
+    return true;
 }
 
 std::vector<std::string> split_list(const std::string& list) {

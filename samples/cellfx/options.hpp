@@ -22,9 +22,16 @@ void require_known(const ParsedArgs& parsed, const std::vector<std::string>& kno
 
 double parse_double(const std::string& text, const std::string& what);
 int parse_int(const std::string& text, const std::string& what);
-void parse_size(const std::string& text, int& width, int& height); // "WxH"
+// "WxH", each in 1..16384 and width × height within the image-pixels limit.
+void parse_size(const std::string& text, int& width, int& height);
 // A comma-separated list ("fire,beam"), empty items dropped.
 std::vector<std::string> split_list(const std::string& list);
 glm::dvec3 parse_vec3(const std::string& text, const std::string& what);
+// "R,G,B" with every component in [0, 1].
+glm::dvec3 parse_colour(const std::string& text, const std::string& what);
+// "60", "0.5", "1e-06": a number as a user would write it.
+std::string format_number(double v);
+// True when `path` ends in `extension` ("scene.JSON" ends in ".json": case is ignored).
+bool has_extension(const std::string& path, const std::string& extension);
 
 } // namespace cellfx_cli

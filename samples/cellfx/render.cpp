@@ -63,19 +63,21 @@ int render_scene_file(const ParsedArgs& parsed) {
     if (parsed.positional.size() != 1) throw fx::Error("expected one SCENE.json");
     const std::string out = parsed.get("out");
     if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
+    // The scene first: a bad file is an error before any GL work.
     const auto t0 = std::chrono::steady_clock::now();
-    const fx::HeadlessContext context;
     terrain::Scene scene = terrain::load_scene(parsed.positional[0]);
     const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const double time = parsed.has("time") ? parse_double(parsed.get("time"), "--time") : 0.0;
     fx::Camera camera = scene.camera_path ? scene.camera_path->at(time, scene.camera) : scene.camera;
     if (parsed.has("camera")) camera = fx::Camera::parse(parsed.get("camera"));
+    camera.validate(parsed.has("camera") ? "--camera" : parsed.positional[0] + ": the camera at t = " + format_number(time));
     if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
     if (parsed.has("pixel-error")) {
         scene.pixel_error = parse_double(parsed.get("pixel-error"), "--pixel-error");
         if (!(scene.pixel_error > 0.0)) throw fx::Error("--pixel-error must be positive");
     }
     if (parsed.has("no-terrain")) scene.draw_terrain = false;
+    const fx::HeadlessContext context;
     terrain::SceneRenderer renderer(scene);
     const bool reference = parsed.get("path") == "scanline";
     if (parsed.has("path") && !reference) {
@@ -246,9 +248,7 @@ int run_render(const std::vector<std::string>& args) {
         std::puts(kUsage);
         return 0;
     }
-    if (parsed.positional.size() == 1 && parsed.positional[0].size() > 5 &&
-        parsed.positional[0].compare(parsed.positional[0].size() - 5, 5, ".json") == 0)
-        return render_scene_file(parsed);
+    if (parsed.positional.size() == 1 && has_extension(parsed.positional[0], ".json")) return render_scene_file(parsed);
     require_known(parsed, {"path", "model", "scalar", "tf", "density", "camera", "near", "size", "background",
                            "threads", "fog", "sort", "out"});
     if (parsed.positional.empty() || parsed.positional.size() > 2) throw fx::Error("expected FILE [Q_FILE]\n" + std::string(kUsage));
@@ -283,6 +283,7 @@ int run_render(const std::vector<std::string>& args) {
         job.camera.near_distance = parse_double(parsed.get("near"), "--near");
         if (!(job.camera.near_distance > 0.0)) throw fx::Error("--near must be positive");
     }
+    job.camera.validate(parsed.has("near") ? "--near " + parsed.get("near") : parsed.has("camera") ? "--camera" : "camera");
     if (parsed.has("size")) parse_size(parsed.get("size"), job.width, job.height);
     if (parsed.has("model")) job.model = parse_model(parsed.get("model"));
     if (parsed.has("threads")) {
@@ -290,9 +291,14 @@ int run_render(const std::vector<std::string>& args) {
         if (threads < 1 || threads > 256) throw fx::Error("--threads must be in 1..256");
         job.threads = static_cast<unsigned>(threads);
     }
-    const glm::dvec3 background = parsed.has("background") ? parse_vec3(parsed.get("background"), "--background") : glm::dvec3(0.0);
+    const glm::dvec3 background = parsed.has("background") ? parse_colour(parsed.get("background"), "--background") : glm::dvec3(0.0);
 
-    Frame frame = path->second(job);
+    Frame frame;
+    try {
+        frame = path->second(job);
+    } catch (const fx::Error& e) { // what a renderer refuses, named by the file it came from
+        throw fx::Error(parsed.positional[0] + ": " + e.what());
+    }
     fx::composite_over(frame.image, glm::vec3(background));
     fx::write_image(frame.image, out);
 

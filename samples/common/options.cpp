@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 #include "sample.hpp"
 
 namespace cellfx_samples {
@@ -56,7 +57,8 @@ std::string usage_text(const SampleUsage& usage) {
         << "  --time T             scene clock of the first frame (default 0)\n"
         << "  --disable A,B        start with these effects switched off\n"
         << "  --no-overlay         leave out the frame-stats lines\n"
-        << "  --no-props           leave out the sample's own opaque geometry\n";
+        << "  --no-props           leave out the sample's own opaque geometry\n"
+        << "  --limit NAME=N       change a resource limit (repeatable; `cellfx limits` lists them)\n";
     for (const auto& [flag, help] : usage.options) {
         std::string f = "  " + flag;
         if (f.size() < 23) f.resize(23, ' ');
@@ -112,6 +114,10 @@ std::optional<SampleOptions> parse_options(const std::vector<std::string>& args,
             o.overlay = false;
         } else if (a == "--no-props") {
             o.props = false;
+        } else if (a == "--limit") {
+            fx::ResourceLimits limits = fx::resource_limits();
+            fx::apply_limit(limits, value());
+            fx::set_resource_limits(limits);
         } else if (a.rfind("--", 0) == 0 && sample_flag(a)) {
             o.values[a.substr(2)] = value();
         } else if (a.rfind("-", 0) == 0 && a.size() > 1) {

@@ -14,6 +14,7 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
 #include "fx/mesh_io.hpp"
+#include "fx/mesh_validation.hpp"
 #include "fx/transfer_function.hpp"
 #include "sample.hpp"
 #include "scene_content.hpp"
@@ -40,6 +41,7 @@ public:
         name_ = std::filesystem::path(file).filename().string();
         if (mesh_.cell_count() == 0) throw fx::Error(file + ": the mesh has no volume cells to draw");
         if (mesh_.scalars.empty()) throw fx::Error(file + ": the mesh has no point scalar field to draw");
+        fx::check_renderable(mesh_, file);
         const auto it = options.values.find("scalar");
         const std::string scalar = it != options.values.end() ? it->second : default_mesh ? "density" : mesh_.scalars[0].name;
         field_ = mesh_.scalars.size();
@@ -50,6 +52,7 @@ public:
             for (const fx::ScalarField& f : mesh_.scalars) names += (names.empty() ? "" : ", ") + f.name;
             throw fx::Error("--scalar: no field '" + scalar + "' in " + file + " (it has: " + names + ")");
         }
+        fx::check_scalar_field(mesh_, mesh_.scalars[field_], file);
         if (options.values.count("tf")) tfs_.push_back({std::filesystem::path(options.values.at("tf")).stem().string(),
                                                         fx::TransferFunction::read_json(options.values.at("tf"))});
         for (const char* shipped : {"cool_warm", "fire", "fog", "step"})

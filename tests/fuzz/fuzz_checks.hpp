@@ -267,7 +267,10 @@ inline std::string check_scene(const std::uint8_t* data, std::size_t size, const
     if (scene_asks_for_large_grid(text)) return "";
     try {
         const terrain::Scene scene = terrain::parse_scene(text, kSceneName, base_dir);
-        if (std::string problem = check_height_field(scene.ground, "ground"); !problem.empty()) return problem;
+        // A scene of effects alone has no terrain (an empty ground); any other has a valid one.
+        if (scene.has_terrain() || scene.effects.empty()) {
+            if (std::string problem = check_height_field(scene.ground, "ground"); !problem.empty()) return problem;
+        }
         if (scene.fog) {
             if (std::string problem = check_height_field(scene.fog->thickness, "fog thickness"); !problem.empty()) return problem;
             if (scene.fog->thickness.size != scene.ground.size) return "fog thickness not on the ground's grid";

@@ -539,6 +539,94 @@ void scene_seeds(const fs::path& source) {
                " " + camera + "}\n");
 }
 
+// The hostile-input classes (docs/robustness.md): well-formed files that ask too much or mean
+// nothing, so that mutations start from the places the budgets and policies guard.
+fx::CellMesh unit_hex(glm::dvec3 offset = glm::dvec3(0.0)) {
+    fx::CellMesh m;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) m.points.push_back(offset + glm::dvec3(i, j, k));
+    const std::uint32_t h[8] = {0, 1, 3, 2, 4, 5, 7, 6};
+    m.add_cell(fx::CellType::Hexahedron, h);
+    m.scalars = {{"s", {0, 1, 2, 3, 4, 5, 6, 7}}};
+    return m;
+}
+
+void hostile_seeds() {
+    fx::CellMesh tets;
+    tets.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const std::uint32_t t[4] = {0, 1, 2, 3};
+    for (int i = 0; i < 3; ++i) tets.add_cell(fx::CellType::Tetra, t);
+    tets.scalars = {{"s", {0, 1, 2, 3}}};
+    write_seed("vtk_legacy", "hostile_duplicate_tets.vtk", vtk_bytes(tets, false));
+    fx::CellMesh two = unit_hex(), shifted = unit_hex(glm::dvec3(0.5, 0.2, 0.0));
+    std::uint32_t h[8];
+    for (int i = 0; i < 8; ++i) h[i] = shifted.cell_vertices(0)[i] + 8;
+    two.points.insert(two.points.end(), shifted.points.begin(), shifted.points.end());
+    two.scalars[0].values.insert(two.scalars[0].values.end(), shifted.scalars[0].values.begin(), shifted.scalars[0].values.end());
+    two.add_cell(fx::CellType::Hexahedron, h);
+    write_seed("vtk_legacy", "hostile_overlapping_hexes.vtk", vtk_bytes(two, true));
+    fx::CellMesh inverted = unit_hex();
+    std::swap_ranges(inverted.cell_vertices(0), inverted.cell_vertices(0) + 4, inverted.cell_vertices(0) + 4);
+    write_seed("vtk_legacy", "hostile_inverted_hex.vtk", vtk_bytes(inverted, false));
+    fx::CellMesh bowtie = unit_hex();
+    std::swap(bowtie.cell_vertices(0)[4], bowtie.cell_vertices(0)[6]);
+    write_seed("vtk_legacy", "hostile_bowtie_hex.vtk", vtk_bytes(bowtie, false));
+    fx::CellMesh flat = unit_hex();
+    for (glm::dvec3& p : flat.points) p.z = 0.0;
+    write_seed("vtk_legacy", "hostile_flat_hex.vtk", vtk_bytes(flat, true));
+    fx::CellMesh far = unit_hex();
+    for (glm::dvec3& p : far.points) p *= 1e300;
+    far.scalars[0].values.assign(8, std::nanf(""));
+    write_seed("vtk_legacy", "hostile_far_nan_field.vtk", vtk_bytes(far, true));
+
+    // PLOT3D: a left-handed grid, one cut short, one with a lying record marker.
+    fx::Plot3dBlock b;
+    b.dims = {3, 2, 2};
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 3; ++i) b.points.push_back(glm::dvec3(2 - i, j, k));
+    fx::Plot3dFormat f;
+    f.record_markers = true;
+    const fs::path xyz = temp_path("hostile.xyz");
+    fx::write_plot3d({b}, f, xyz.string());
+    const std::string grid = read_file(xyz);
+    write_seed("plot3d", "hostile_left_handed.grid", fx_fuzz::pack_plot3d_input(grid, nullptr));
+    write_seed("plot3d", "hostile_truncated.grid", fx_fuzz::pack_plot3d_input(grid.substr(0, grid.size() / 2), nullptr));
+    std::string lying = grid;
+    lying[23] = char(lying[23] + 16); // the coordinates' opening marker
+    write_seed("plot3d", "hostile_lying_marker.grid", fx_fuzz::pack_plot3d_input(lying, nullptr));
+
+    write_seed("avs_ucd", "hostile_negative_counts.inp", "# counts below zero\n-4 1 0 0 0\n");
+
+    write_seed("transfer_function", "hostile_utf16.json", std::string("\xFF\xFE{\0\"\0p\0\"\0:\0[\0]\0}\0", 18));
+    write_seed("transfer_function", "hostile_sigma_1e300.json", R"({"points": [[0, 1, 1, 1, 1], [1, 1, 1, 1, 1e300]]})");
+    write_seed("transfer_function", "hostile_colour_1e7.json", R"({"points": [[0, 1e7, 1, 1, 1]]})");
+
+    const std::string tf = "\"transfer_function\": \"../transfer_functions/fire.json\"";
+    const std::string effects_only = "\"render\": {\"width\": 64, \"height\": 48},\n";
+    write_seed("scene", "hostile_camera_up_parallel.json",
+               "{\"effects\": [{\"type\": \"laser_cone\", " + tf + "}], " + effects_only +
+                   " \"camera\": {\"eye\": [0, 0, 5], \"target\": [0, 0, 0], \"up\": [0, 0, 1e-300]}}\n");
+    write_seed("scene", "hostile_camera_path_above.json",
+               "{\"effects\": [{\"type\": \"campfire\", " + tf + "}], " + effects_only +
+                   " \"camera\": {\"eye\": [3, -4, 2], \"target\": [0, 0, 0.5], \"ortho\": 5},\n"
+                   " \"camera_path\": {\"keys\": [{\"time\": 0, \"eye\": [3, -4, 2], \"target\": [0, 0, 0.5]},"
+                   " {\"time\": 2, \"eye\": [0, 0, 9], \"target\": [0, 0, 0.5]}]}}\n");
+    write_seed("scene", "hostile_numbers_1e300.json",
+               "{\"effects\": [{\"type\": \"campfire\", \"base_radius\": 1e300, " + tf + "},"
+               " {\"type\": \"search_light\", \"name\": \"l\", \"range\": 1e300, " + tf + "}], " + effects_only +
+                   " \"camera\": {\"eye\": [3, -4, 2], \"target\": [0, 0, 0.5]}}\n");
+    write_seed("scene", "hostile_effects_over_budget.json",
+               "{\"effects\": [{\"type\": \"campfire\", \"cells_across\": 256, \"cells_up\": 256, " + tf + "}],"
+               " \"render\": {\"width\": 16384, \"height\": 16384, \"background\": [5, 5, 5]},"
+               " \"camera\": {\"eye\": [3, -4, 2], \"target\": [0, 0, 0.5], \"near\": 50, \"far\": 10}}\n");
+    write_seed("scene", "hostile_terrain_1e300.json",
+               "{\"terrain\": {\"procedural\": {\"size\": 17, \"spacing\": 1e300, \"noise\": {}}},"
+               " \"aurora\": {\"ceiling\": 1e300, \"spacing\": 1, " + tf + "},"
+               " \"camera\": {\"eye\": [3, -4, 2], \"target\": [0, 0, 0.5]}}\n");
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -555,6 +643,7 @@ int main(int argc, char** argv) {
         transfer_function_seeds(source);
         height_field_seeds(source);
         scene_seeds(source);
+        hostile_seeds();
         fs::remove_all(fs::path(g_out) / ".tmp");
         // Every seed must satisfy the fuzz checks, or the corpus would start with a failure.
         int bad = 0;

@@ -30,6 +30,16 @@ struct Camera {
 
     bool orthographic() const { return ortho_height > 0.0; }
     glm::dvec3 forward() const; // unit view direction
+    // The unit right vector of the image: forward() × up, with up of any length.
+    glm::dvec3 right() const;
+
+    // Throws fx::Error, starting with `who` ("camera", "scene.json: camera"), unless the camera
+    // can take a picture: every number finite and eye and target within ±kMaxCoordinate;
+    // eye ≠ target; up non-zero and at least 1e-6 rad away from the view direction (any length:
+    // it is scaled before use, so 1e-300 works as well as 1); perspective fov in (0, 180) or
+    // ortho height > 0 (ortho_height < 0 is an error, not a perspective camera);
+    // 0 < near < far. Every render path calls it (no allocation unless it throws).
+    void validate(std::string_view who) const;
 
     glm::dmat4 view_matrix() const;                       // world → eye
     glm::dmat4 projection_matrix(double aspect) const;    // eye → GL clip space
@@ -39,7 +49,7 @@ struct Camera {
 
     // Parses "eye=x,y,z,target=x,y,z,up=x,y,z,fov=DEG" or with "ortho=HEIGHT" instead of fov;
     // near=D and far=D are accepted too. Any key may be left out. Throws fx::Error naming
-    // the bad key or number.
+    // the bad key or number, or what validate() finds.
     static Camera parse(std::string_view spec);
     // A view of `lo`..`hi` from the (+x, +y, +z) diagonal that fits the whole box.
     static Camera framing(const glm::dvec3& lo, const glm::dvec3& hi, double fov_y_degrees = 40.0);

@@ -50,6 +50,10 @@ struct CampfireParams {
     std::uint32_t seed = 1;
 };
 
+// The most cells these parameters build (cells_across² · cells_up; cells outside the flame
+// are never built), known before anything is built: what the effect-cells budget checks.
+std::uint64_t max_cells(const CampfireParams& params);
+
 class Campfire final : public Effect {
 public:
     // Throws fx::Error naming the parameter that is out of range.

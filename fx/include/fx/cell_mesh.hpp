@@ -33,6 +33,11 @@ enum class CellType : std::uint8_t {
     Pyramid = 14,
 };
 
+// Coordinates cellfx renders (meshes, effects, terrain): |x|, |y|, |z| at most this. Beyond
+// it lengths lose their meaning in the GPU paths' float arithmetic (squares overflow near
+// 1.8e19). Readers accept any finite coordinate; renderers and effects refuse larger ones.
+constexpr double kMaxCoordinate = 1.0e18;
+
 constexpr int kMaxCellVertices = 8;
 constexpr int kMaxCellFaces = 6;
 

@@ -162,6 +162,14 @@ struct Frustum {
 // Frustum(camera, aspect).intersects(bounds).
 bool bounds_in_view(const Bounds& bounds, const Camera& camera, double aspect);
 
+// For an effect's parameter checks: a position or length cellfx can render (finite, every
+// component within ±kMaxCoordinate, cell_mesh.hpp).
+bool renderable_coordinates(const glm::dvec3& v);
+bool renderable_length(double length); // finite, > 0 and at most kMaxCoordinate
+// Throws fx::Error("<what> needs N cells, over the effect-cells limit ...") when an effect's
+// parameters could build more cells than the resource budget allows (resource_limits.hpp).
+void check_effect_cells(std::uint64_t cells, const std::string& what);
+
 // The box of `bounds` moved by `m` (its 8 corners transformed).
 Bounds transform_bounds(const Bounds& bounds, const glm::dmat4& m);
 

@@ -26,6 +26,10 @@ struct FaceTopology {
     std::vector<std::uint32_t> slot_cell;      // per slot: the cell it belongs to
     std::vector<std::uint32_t> boundary_faces; // slots with no neighbour, ascending
     std::size_t non_manifold_faces = 0;        // vertex sets shared by more than two cells
+    // The slots of those faces (left as boundary above), grouped: the g-th such face is
+    // non_manifold_slots[non_manifold_first[g] .. non_manifold_first[g + 1]).
+    std::vector<std::uint32_t> non_manifold_slots;
+    std::vector<std::uint32_t> non_manifold_first{0};
 
     std::size_t face_slot_count() const { return neighbour.size(); }
     std::size_t memory_bytes() const;

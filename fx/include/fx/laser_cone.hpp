@@ -43,6 +43,10 @@ struct LaserConeParams {
     std::uint32_t seed = 1;
 };
 
+// The cells these parameters build (segments · slices), known before building: what the
+// effect-cells budget checks.
+std::uint64_t max_cells(const LaserConeParams& params);
+
 class LaserCone final : public Effect {
 public:
     // Throws fx::Error naming the parameter that is out of range.

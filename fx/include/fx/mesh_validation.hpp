@@ -1,9 +1,21 @@
 // cellfx — checking a mesh before it is rendered, and fixing cell orientation.
 //
 // validate_mesh() reports, by cell id, everything that would make a picture silently wrong:
-// indices past the point array, non-finite coordinates or scalars, repeated vertices,
-// zero-volume, inverted (negative volume) and twisted (corners of both orientations) cells.
-// Readers call orient_cells() for formats with mixed winding (AVS UCD).
+// indices past the point array, non-finite or out-of-range coordinates, non-finite scalars,
+// repeated vertices, zero-volume, inverted (negative volume) and twisted (parts of both
+// orientations: a bow-tie) cells, and cells that overlap a neighbour (a duplicate, or two
+// cells on the same side of the face they share).
+//
+// One policy for every reader and render path:
+// - Readers orient: every reader calls orient_cells() and notes how many cells it flipped
+//   (`cellfx info` prints it). Renderers still accept either winding (API-built meshes).
+// - Flat cells (zero volume) hold no medium: the scan-line reference leaves them out, the
+//   projection paths' thickness through them is zero.
+// - Twisted cells have no inside a renderer could agree on: check_renderable() refuses the
+//   mesh, naming them; so does a mesh with no cell of positive volume.
+// - Overlapping cells within a block: the additive GPU paths (pcp, mip) add their media; the
+//   scan-line reference, which needs cells that partition each block, refuses the mesh with a
+//   message naming the cells (and the xmpvo sort stops at its sort-pairs budget).
 #pragma once
 
 #include <cstddef>
@@ -12,17 +24,21 @@
 #include <vector>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/face_topology.hpp"
 
 namespace fx {
 
 enum class MeshProblemKind {
     IndexOutOfRange,
     NonFiniteCoordinate,
+    CoordinateOutOfRange, // finite, but beyond ±kMaxCoordinate
     NonFiniteScalar,
     RepeatedVertex, // a cell uses the same point twice (degenerate)
     ZeroVolume,
     Inverted,       // negative volume: faces wind inward
-    Twisted,        // corner volumes of both signs: the cell folds over itself
+    Twisted,        // parts of both orientations: the cell folds over itself (a bow-tie)
+    Duplicate,      // the same points as an earlier cell
+    Overlapping,    // on the same side of a face it shares with an earlier cell
 };
 const char* mesh_problem_name(MeshProblemKind kind);
 
@@ -37,13 +53,47 @@ struct MeshProblem {
 // Vertices must be in range.
 double cell_signed_volume(const CellMesh& mesh, std::size_t cell);
 
-// All problems, in cell order. A cell's volume is "zero" below 1e-9 of the cube of its own
-// bounding-box diagonal, so the test does not depend on the mesh's scale or position.
+// What a cell is to a renderer. The test is scale-free: volumes are measured in units of the
+// cell's own bounding box, so a cell of 1e-20 and one of 1e15 are judged alike.
+enum class CellShape : std::uint8_t {
+    Positive, // faces wind outward
+    Inverted, // faces wind inward (orient_cells() flips it)
+    Flat,     // zero volume: below 1e-9 of its bounding box (repeated points, collapsed)
+    Twisted,  // the signed volume has parts of both signs beyond 1e-6 of the whole: a bow-tie
+    Unusable, // an index out of range or a non-finite coordinate
+};
+CellShape classify_cell(const CellMesh& mesh, std::size_t cell);
+
+// All problems, in cell order (the overlap checks build the mesh's face topology).
 std::vector<MeshProblem> validate_mesh(const CellMesh& mesh);
 
+// Two cells of one block that overlap: `cell` lies on the same side of a face it shares with
+// `other` (other < cell), or has the same points (duplicate). Found from the face topology
+// (faces matched by point ids), so cells that overlap without sharing points are not listed;
+// the scan-line renderer finds those along its rays.
+struct CellOverlap {
+    std::uint32_t other, cell;
+    bool duplicate;
+};
+std::vector<CellOverlap> find_overlapping_cells(const CellMesh& mesh, const FaceTopology& topology,
+                                                const std::vector<CellShape>& shapes);
+// "cell 5 has the same points as cell 2" / "cells 2 and 5 lie on the same side of their shared face".
+std::string describe_overlap(const CellOverlap& overlap);
+
+// The checks every render path runs on a mesh before it draws it. Throws fx::Error, starting
+// with `who` ("post.vtk", "scan-line renderer"), when the mesh is over the mesh-points or
+// mesh-cells limit, has an index out of range, a non-finite coordinate or one beyond
+// ±kMaxCoordinate, a twisted cell, or no cell of positive volume (all flat); messages name
+// the first offending cells. Returns every cell's shape (Positive, Inverted or Flat).
+std::vector<CellShape> check_renderable(const CellMesh& mesh, const std::string& who);
+
+// Throws fx::Error, starting with `who`, unless `field` has one finite value per point of
+// `mesh` (naming the field and the first bad point).
+void check_scalar_field(const CellMesh& mesh, const ScalarField& field, const std::string& who);
+
 struct OrientationReport {
-    std::size_t flipped = 0;                 // inverted cells whose vertex order was mirrored
-    std::vector<std::uint32_t> degenerate;   // cells left as they are: zero volume or repeated vertex
+    std::size_t flipped = 0;               // inverted cells whose vertex order was mirrored
+    std::vector<std::uint32_t> degenerate; // cells left as they are: flat, twisted or unusable
 };
 // Reorders the vertices of every inverted cell so that its volume becomes positive (tetra:
 // swap 1 and 2; pyramid: reverse the base; wedge and hexahedron: swap the two end faces).

@@ -53,11 +53,21 @@
 //   alpha = 1 − e^(−τ); the Emission and Maximum models neither absorb nor occlude, so they
 //   write alpha = 0 (composite_over() then adds them to the background).
 //
+// - Cells that overlap within a grid: the reference refuses them rather than guess. The
+//   constructor refuses cells that share a face on the same side (duplicates included,
+//   find_overlapping_cells()); render() counts, along every pixel's ray, how many cells of
+//   each grid the ray is inside (+1 entering a cell through a surface, −1 leaving) and throws
+//   fx::Error naming the cells and the pixel where that count reaches 2 (or −1) over more
+//   than rounding's worth of depth. Every picture it returns is therefore exact; a mesh whose
+//   overlapping parts are separate blocks renders with their media added.
+// - Flat (zero-volume) cells hold no medium and are skipped; twisted cells and meshes with
+//   no cell of volume are refused (check_renderable(), mesh_validation.hpp).
+//
 // Ownership and preconditions: the renderer keeps a reference to the mesh, which must
 // outlive it and must not change (points may not move, cells not be added) while it is
-// used. Points must be finite and the mesh may have at most 2^27 cells (the constructor
-// throws fx::Error otherwise); cells may have either winding (the in/out rule is a parity,
-// not an orientation). render() is const and may be called from several threads at once,
+// used. The mesh must pass check_renderable() and have at most 2^27 cells (the constructor
+// throws fx::Error otherwise); cells may have either winding (each cell's orientation is
+// taken into account). render() is const and may be called from several threads at once,
 // each call with `options.threads` workers. The renderer keeps one set of per-frame buffers
 // (screen points, Y-buckets, worker lists) between calls so that a frame does not allocate
 // and clear them again; a call that finds them in use by another allocates its own. Frames
@@ -155,8 +165,10 @@ public:
     ScanlineRenderer& operator=(const ScanlineRenderer&) = delete; // the mesh reference is fixed
 
     // Renders one frame. `field` has one value per mesh point (finite); a normalized transfer
-    // function is first mapped onto the field's range. width, height in [1, 65534].
-    // Throws fx::Error on bad arguments.
+    // function is first mapped onto the field's range. width, height in [1, 65534] and within
+    // the image-pixels limit; the frame's buffers within the frame-bytes limit
+    // (resource_limits.hpp). Throws fx::Error on bad arguments, overlapping cells (above) and
+    // when memory runs out (on any worker thread).
     Image render(const Camera& camera, int width, int height, const ScalarField& field,
                  const TransferFunction& tf, const ScanlineOptions& options = {},
                  ScanlineStats* stats = nullptr) const;
@@ -167,6 +179,9 @@ public:
     std::size_t memory_bytes() const; // the per-mesh triangle table
 
 private:
+    Image render_frame(const Camera& camera, int width, int height, const ScalarField& field,
+                       const TransferFunction& tf, const ScanlineOptions& options, ScanlineStats* stats) const;
+
     const CellMesh& mesh_;
     // One 32-bit code per triangle, in cell order: cell << 5 | face << 2 | half << 1 |
     // grid surface (the paper's sequential identifier; its points come from the mesh).
@@ -176,6 +191,7 @@ private:
     };
     std::vector<CellRange> blocks_;
     std::size_t surface_triangles_ = 0;
+    std::vector<std::uint8_t> cell_flags_; // per cell: inverted, flat (scanline_renderer.cpp)
     Bounds bounds_; // of the mesh, for the depth reference
     // Per-frame buffers kept for the next render() (none while a render() holds them).
     mutable std::mutex spare_mutex_;

@@ -54,6 +54,10 @@ struct SearchLightParams {
     SweepMotion sweep;
 };
 
+// The cells these parameters build (segments · rings · slices), known before building:
+// what the effect-cells budget checks.
+std::uint64_t max_cells(const SearchLightParams& params);
+
 class SearchLight final : public Effect {
 public:
     // Throws fx::Error naming the parameter that is out of range.

@@ -10,7 +10,9 @@
 // File form (JSON): {"points": [[s, r, g, b, sigma], ...]} with optional "normalized": true,
 // meaning s runs from exactly 0 to exactly 1 (or, for a single s value, lies in [0, 1]) and is
 // to be mapped onto a scalar field's range with rescaled(); optional "description": a string.
-// Other keys are rejected. Every value must be finite, colour and sigma non-negative.
+// Other keys are rejected. Every value must be finite, colour and sigma non-negative and at
+// most kMaxColor and kMaxSigma (so that colour·sigma·length stays finite in every path's float
+// arithmetic).
 // content/transfer_functions/README.md describes the format for users.
 #pragma once
 
@@ -21,6 +23,12 @@
 #include <glm/vec3.hpp>
 
 namespace fx {
+
+// The largest extinction (per world unit) and colour component a transfer function may hold:
+// every value and colour·sigma (≤ 1e38) fit a float, which the GPU paths' tables are. An
+// optical depth beyond ~50 is opaque anyway; the paths keep what they integrate finite.
+constexpr double kMaxSigma = 1.0e32;
+constexpr double kMaxColor = 1.0e6;
 
 struct TransferPoint {
     double s;
@@ -47,9 +55,11 @@ public:
     const std::vector<TransferPoint>& points() const { return points_; }
     bool normalized() const { return normalized_; }
     // The same function with its s range [first, last] mapped linearly onto [lo, hi]
-    // (normalized() becomes false). lo > hi mirrors the function; lo == hi or a non-finite
-    // bound throws fx::Error. A function whose points all share one s is centred in [lo, hi].
-    // Where a narrow range maps more than two points onto one s, the first and last are kept.
+    // (normalized() becomes false). lo > hi mirrors the function; a non-finite bound throws
+    // fx::Error. A function whose points all share one s is centred in [lo, hi]. Where a
+    // narrow range maps more than two points onto one s, the first and last are kept.
+    // lo == hi (a constant field) gives the constant value the function has at its first s
+    // (from above), as if the range were [lo, lo + ε]: the field's one value is its low end.
     TransferFunction rescaled(double lo, double hi) const;
     // The same colours with every sigma multiplied by k (a scene's "extinction_scale"): k ≥ 0
     // and finite, else fx::Error.

@@ -72,6 +72,9 @@ struct VolumeParams {
     VolumeNoise noise;
 };
 
+// The cells these parameters build, known before building: what the effect-cells budget checks.
+std::uint64_t max_cells(const VolumeParams& params);
+
 class Volume final : public Effect {
 public:
     // Throws fx::Error naming the parameter that is wrong (a mesh without cells, a field it

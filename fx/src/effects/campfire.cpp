@@ -22,9 +22,9 @@ void check(bool ok, const char* name, const char* what) {
 
 void validate(const CampfireParams& p) {
     const glm::dvec3& x = p.position;
-    check(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z), "position", "is not finite");
-    check(p.base_radius > 0.0 && std::isfinite(p.base_radius), "base_radius", "must be positive");
-    check(p.height > 0.0 && std::isfinite(p.height), "height", "must be positive");
+    check(renderable_coordinates(x), "position", "must be finite and within ±1e18 (the coordinates cellfx renders)");
+    check(renderable_length(p.base_radius), "base_radius", "must be positive and at most 1e18");
+    check(renderable_length(p.height), "height", "must be positive and at most 1e18");
     check(p.taper >= 0.0 && std::isfinite(p.taper), "taper", "must be ≥ 0");
     check(p.cells_across >= 2 && p.cells_across <= 256, "cells_across", "must be in 2..256");
     check(p.cells_up >= 1 && p.cells_up <= 256, "cells_up", "must be in 1..256");
@@ -35,6 +35,7 @@ void validate(const CampfireParams& p) {
     check(p.noise_octaves >= 1 && p.noise_octaves <= 8, "noise_octaves", "must be in 1..8");
     check(std::isfinite(p.rise_speed), "rise_speed", "is not finite");
     check(std::isfinite(p.flicker_rate), "flicker_rate", "is not finite");
+    check_effect_cells(max_cells(p), "campfire: cells_across² × cells_up");
 }
 
 bool same_shape(const CampfireParams& a, const CampfireParams& b) {
@@ -70,6 +71,11 @@ float temperature(const CampfireParams& p, double e, float n) {
 }
 
 } // namespace
+
+std::uint64_t max_cells(const CampfireParams& p) {
+    return std::uint64_t(std::max(p.cells_across, 0)) * std::uint64_t(std::max(p.cells_across, 0)) *
+           std::uint64_t(std::max(p.cells_up, 0));
+}
 
 Campfire::Campfire(const CampfireParams& params)
     : Effect("temperature"), params_(params), sampled_time_(std::numeric_limits<double>::quiet_NaN()) {

@@ -8,6 +8,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 
 namespace fx {
 
@@ -49,6 +50,14 @@ const char* rigid_part_of(const glm::dmat4& m, glm::dmat4& r) {
 }
 
 } // namespace
+
+bool renderable_coordinates(const glm::dvec3& v) {
+    return std::abs(v.x) <= kMaxCoordinate && std::abs(v.y) <= kMaxCoordinate && std::abs(v.z) <= kMaxCoordinate;
+}
+
+bool renderable_length(double length) { return length > 0.0 && length <= kMaxCoordinate; }
+
+void check_effect_cells(std::uint64_t cells, const std::string& what) { check_limit(Limit::EffectCells, cells, what); }
 
 Effect::Effect(std::string scalar_name) : scalar_name_(std::move(scalar_name)) {}
 

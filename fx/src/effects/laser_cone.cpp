@@ -24,10 +24,10 @@ void check(bool ok, const char* name, const char* what) {
 }
 
 void validate(const LaserConeParams& p) {
-    check(finite(p.position), "position", "is not finite");
+    check(renderable_coordinates(p.position), "position", "must be finite and within ±1e18 (the coordinates cellfx renders)");
     check(finite(p.direction) && glm::length(p.direction) > 0.0, "direction", "must be finite and non-zero");
-    check(p.range > 0.0 && std::isfinite(p.range), "range", "must be positive");
-    check(p.radius > 0.0 && std::isfinite(p.radius), "radius", "must be positive");
+    check(renderable_length(p.range), "range", "must be positive and at most 1e18");
+    check(renderable_length(p.radius), "radius", "must be positive and at most 1e18");
     check(p.divergence_degrees >= 0.0 && p.divergence_degrees <= 10.0, "divergence_degrees", "must be in [0, 10]");
     check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
     check(p.end_fade >= 0.0 && p.end_fade <= 1.0, "end_fade", "must be in [0, 1]");
@@ -37,6 +37,7 @@ void validate(const LaserConeParams& p) {
     check(p.dust_frequency > 0.0 && std::isfinite(p.dust_frequency), "dust_frequency", "must be positive");
     check(p.dust_octaves >= 1 && p.dust_octaves <= 8, "dust_octaves", "must be in 1..8");
     check(finite(p.dust_drift), "dust_drift", "is not finite");
+    check_effect_cells(max_cells(p), "laser_cone: segments × slices");
 }
 
 effects::ConeShape shape_of(const LaserConeParams& p) {
@@ -55,6 +56,10 @@ bool same_scalars(const LaserConeParams& a, const LaserConeParams& b) {
 }
 
 } // namespace
+
+std::uint64_t max_cells(const LaserConeParams& p) {
+    return std::uint64_t(std::max(p.segments, 0)) * std::uint64_t(std::max(p.slices, 0));
+}
 
 LaserCone::LaserCone(const LaserConeParams& params) : Effect("intensity"), params_(params) { validate(params_); }
 

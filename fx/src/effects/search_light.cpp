@@ -1,6 +1,7 @@
 // Based on: Roettger & Ertl 2003, Figure 2 and Table 4 (search light, quadratic attenuation).
 #include "fx/search_light.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -23,11 +24,11 @@ void check(bool ok, const char* name, const char* what) {
 }
 
 void validate(const SearchLightParams& p) {
-    check(finite(p.position), "position", "is not finite");
+    check(renderable_coordinates(p.position), "position", "must be finite and within ±1e18 (the coordinates cellfx renders)");
     check(finite(p.direction) && glm::length(p.direction) > 0.0, "direction", "must be finite and non-zero");
-    check(p.range > 0.0 && std::isfinite(p.range), "range", "must be positive");
+    check(renderable_length(p.range), "range", "must be positive and at most 1e18");
     check(p.spread_degrees >= 0.0 && p.spread_degrees <= 60.0, "spread_degrees", "must be in [0, 60]");
-    check(p.lens_radius > 0.0 && std::isfinite(p.lens_radius), "lens_radius", "must be positive");
+    check(renderable_length(p.lens_radius), "lens_radius", "must be positive and at most 1e18");
     check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
     check(p.segments >= 3 && p.segments <= 256, "segments", "must be in 3..256");
     check(p.rings >= 1 && p.rings <= 64, "rings", "must be in 1..64");
@@ -38,6 +39,7 @@ void validate(const SearchLightParams& p) {
     check(std::isfinite(s.phase_degrees), "sweep.phase_degrees", "is not finite");
     check(finite(s.axis) && (s.amplitude_degrees == 0.0 || glm::length(s.axis) > 0.0), "sweep.axis",
           "must be finite and non-zero");
+    check_effect_cells(max_cells(p), "search_light: segments × rings × slices");
 }
 
 effects::ConeShape shape_of(const SearchLightParams& p) {
@@ -50,6 +52,10 @@ bool same_shape(const SearchLightParams& a, const SearchLightParams& b) {
 }
 
 } // namespace
+
+std::uint64_t max_cells(const SearchLightParams& p) {
+    return std::uint64_t(std::max(p.segments, 0)) * std::uint64_t(std::max(p.rings, 0)) * std::uint64_t(std::max(p.slices, 0));
+}
 
 SearchLight::SearchLight(const SearchLightParams& params) : Effect("intensity"), params_(params) { validate(params_); }
 

@@ -33,6 +33,20 @@ int cells_of(const VolumeParams& p) {
     return p.shape == VolumeShape::Box && plain ? 1 : 16;
 }
 
+// A box's cells along x, y, z: `cells_of` across the largest extent, in proportion elsewhere.
+std::array<int, 3> box_divisions(const VolumeParams& p) {
+    const double largest = std::max({p.size.x, p.size.y, p.size.z});
+    const int across = cells_of(p);
+    std::array<int, 3> n{};
+    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround(across * p.size[a] / largest)));
+    return n;
+}
+
+// A sphere's icosphere level (surface triangles about as wide as a cell: the icosahedron's edge
+// is ~1.05 radii, each level halves it) and its shells of cells.
+int sphere_level(const VolumeParams& p) { return std::clamp(int(std::lround(std::log2(std::max(1.0, 0.5 * cells_of(p))))), 1, 5); }
+int sphere_shells(const VolumeParams& p) { return std::max(1, cells_of(p) / 2); }
+
 void validate(const VolumeParams& p) {
     check(finite(p.position), "position", "is not finite");
     check(finite(p.rotation_degrees), "rotation_degrees", "is not finite");
@@ -64,6 +78,7 @@ void validate(const VolumeParams& p) {
     check(n.contrast >= 0.0 && std::isfinite(n.contrast), "noise.contrast", "must be ≥ 0");
     check(finite(n.drift), "noise.drift", "is not finite");
     check(std::isfinite(n.evolve), "noise.evolve", "is not finite");
+    check_effect_cells(max_cells(p), "volume: cells");
 }
 
 bool same_shape(const VolumeParams& a, const VolumeParams& b) {
@@ -115,10 +130,7 @@ void add_positive(CellMesh& mesh, CellType type, std::array<std::uint32_t, 6> v)
 }
 
 CellMesh box_mesh(const VolumeParams& p) {
-    const double largest = std::max({p.size.x, p.size.y, p.size.z});
-    const int across = cells_of(p);
-    int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround(across * p.size[a] / largest)));
+    const std::array<int, 3> n = box_divisions(p);
     CellMesh mesh;
     mesh.begin_block("volume");
     for (int k = 0; k <= n[2]; ++k)
@@ -169,11 +181,8 @@ void icosphere(int level, std::vector<glm::dvec3>& points, std::vector<std::arra
 }
 
 CellMesh sphere_mesh(const VolumeParams& p) {
-    const int across = cells_of(p);
-    // Surface triangles about as wide as a cell: the icosahedron's edge is ~1.05 radii, each
-    // level halves it.
-    const int level = std::clamp(int(std::lround(std::log2(std::max(1.0, 0.5 * across)))), 1, 5);
-    const int shells = std::max(1, across / 2);
+    const int level = sphere_level(p);
+    const int shells = sphere_shells(p);
     std::vector<glm::dvec3> unit;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     icosphere(level, unit, triangles);
@@ -194,6 +203,19 @@ CellMesh sphere_mesh(const VolumeParams& p) {
 }
 
 } // namespace
+
+std::uint64_t max_cells(const VolumeParams& p) {
+    switch (p.shape) {
+    case VolumeShape::Box: {
+        const std::array<int, 3> n = box_divisions(p);
+        return std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
+    }
+    case VolumeShape::Sphere: // 20·4^level surface triangles, a tetrahedron and shells − 1 wedges under each
+        return (std::uint64_t(20) << (2 * sphere_level(p))) * std::uint64_t(sphere_shells(p));
+    case VolumeShape::Mesh: return p.mesh ? p.mesh->cell_count() : 0;
+    }
+    return 0;
+}
 
 const char* volume_shape_name(VolumeShape shape) {
     switch (shape) {

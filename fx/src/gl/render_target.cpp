@@ -1,8 +1,11 @@
 #include "gl/render_target.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
+#include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 #include "gl/state_guard.hpp"
 
 namespace fx::gl {
@@ -28,6 +31,18 @@ const char* color_format_name(ColorFormat format) {
 RenderTarget RenderTarget::create(int width, int height, ColorFormat format, bool with_depth) {
     if (width <= 0 || height <= 0)
         throw Error("RenderTarget: bad size " + std::to_string(width) + "x" + std::to_string(height));
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    check_limit(Limit::ImagePixels, std::uint64_t(width) * std::uint64_t(height), "an offscreen " + size + " image");
+    // What the driver can hold: past it the framebuffer is only "incomplete" (0x8CD6).
+    GLint max_texture = 0, max_renderbuffer = 0, max_viewport[2] = {0, 0};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
+    const GLint max_side = std::min({max_texture, max_renderbuffer, max_viewport[0], max_viewport[1]});
+    if (max_side > 0 && (width > max_side || height > max_side)) {
+        throw Error("an offscreen " + size + " image is larger than this OpenGL driver allows (" + std::to_string(max_side) +
+                    " pixels a side, GL_MAX_TEXTURE_SIZE / GL_MAX_VIEWPORT_DIMS); use a smaller --size, or --path scanline");
+    }
     RenderTarget target;
     target.width_ = width;
     target.height_ = height;

@@ -11,7 +11,6 @@
 #include <limits>
 #include <utility>
 
-#include "fx/mesh_validation.hpp"
 #include "io/io_util.hpp"
 
 namespace fx {
@@ -73,7 +72,9 @@ CellMesh UcdReader::read() {
         s_.rest_of_line();
     }
     const std::size_t nodes = s_.read_count("number of nodes", s_.max_tokens_left() / 4);
+    if (exceeds(Limit::MeshPoints, nodes)) s_.fail_at_line(s_.token_start(), over_limit(Limit::MeshPoints, nodes, "the node count"));
     const std::size_t cells = s_.read_count("number of cells", s_.max_tokens_left() / 4);
+    if (exceeds(Limit::MeshCells, cells)) s_.fail_at_line(s_.token_start(), over_limit(Limit::MeshCells, cells, "the cell count"));
     const std::size_t node_data = s_.read_count("node data length", s_.max_tokens_left());
     const std::size_t cell_data = s_.read_count("cell data length", s_.max_tokens_left());
     const std::size_t model_data = s_.read_count("model data length", s_.max_tokens_left());
@@ -196,16 +197,9 @@ CellMesh UcdReader::read() {
     if (cell_data > 0) note("skipped cell data (" + std::to_string(cell_data) + " values per cell)");
     if (model_data > 0) note("skipped model data (" + std::to_string(model_data) + " values)");
 
-    const OrientationReport report = orient_cells(mesh);
-    note("orientation: flipped " + io::with_commas(report.flipped) + " of " + io::with_commas(mesh.cell_count()) +
-         " cells to positive volume");
-    constexpr std::size_t kListed = 20;
-    for (std::size_t k = 0; k < report.degenerate.size() && k < kListed; ++k) {
-        const std::uint32_t c = report.degenerate[k];
-        note("degenerate cell: id " + std::to_string(cell_ids_[c]) + " (line " + std::to_string(s_.line_of(cell_starts_[c])) +
-             "): repeated vertex or zero volume, kept as is");
-    }
-    if (report.degenerate.size() > kListed) note("... and " + io::with_commas(report.degenerate.size() - kListed) + " more degenerate cells");
+    io::orient_and_note(mesh, notes_, [&](std::uint32_t c) {
+        return "id " + std::to_string(cell_ids_[c]) + " (line " + std::to_string(s_.line_of(cell_starts_[c])) + ")";
+    });
     return mesh;
 }
 

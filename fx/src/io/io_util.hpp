@@ -10,30 +10,28 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
+#include "fx/mesh_validation.hpp"
+#include "fx/resource_limits.hpp"
+#include "io/input_file.hpp"
 
 namespace fx::io {
 
-// The bytes of a file. Throws fx::Error naming the file when it cannot be opened or read.
+// The bytes of a mesh or q file, within the file-bytes budget (input_file.hpp). Every format
+// cellfx reads starts with a non-zero byte among the first four (text, or a PLOT3D count or
+// record length of at least 1), so a device of zeros is refused at once.
 inline std::vector<char> read_file_bytes(const std::string& path) {
-    // A folder opens and seeks like a file, but its "size" is no size (bad_alloc on ext4).
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a folder, not a file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open file");
-    in.seekg(0, std::ios::end);
-    const std::streamoff size = in.tellg();
-    if (size < 0) throw Error(path + ": cannot determine the file size");
-    in.seekg(0, std::ios::beg);
-    std::vector<char> bytes(static_cast<std::size_t>(size));
-    if (size > 0 && !in.read(bytes.data(), size)) throw Error(path + ": read error");
-    return bytes;
+    return read_input_file(path, Limit::FileBytes, "mesh file", [&](std::string_view head) {
+        if (head.size() >= 4 && head.substr(0, 4) == std::string_view("\0\0\0\0", 4))
+            throw Error(path + ": byte 0: not a PLOT3D grid file (nor VTK legacy or AVS UCD): it starts with four zero "
+                               "bytes, where every PLOT3D variant has a count or record length of at least 1");
+    });
 }
 
 // Writes bytes to a file, replacing it. Throws fx::Error naming the file on failure.
@@ -224,13 +222,25 @@ private:
 };
 
 // Human-readable number with thousands separators, for notes ("37,479").
-inline std::string with_commas(std::uint64_t n) {
-    std::string digits = std::to_string(n), out;
-    for (std::size_t i = 0; i < digits.size(); ++i) {
-        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
-        out += digits[i];
+using fx::with_commas;
+
+// Every reader orients its cells (the policy of mesh_validation.hpp) and notes what it did:
+// how many cells it flipped, and the first cells it left as they are (flat, folded or
+// unusable), each named by `name_cell(cell)` ("cell 7 (line 12)").
+template <class NameCell>
+void orient_and_note(CellMesh& mesh, std::vector<std::string>* notes, NameCell name_cell) {
+    const OrientationReport report = orient_cells(mesh);
+    if (!notes) return;
+    notes->push_back("orientation: flipped " + with_commas(report.flipped) + " of " + with_commas(mesh.cell_count()) +
+                     " cells to positive volume");
+    constexpr std::size_t kListed = 20;
+    for (std::size_t k = 0; k < report.degenerate.size() && k < kListed; ++k) {
+        notes->push_back("degenerate cell: " + name_cell(report.degenerate[k]) +
+                         ": zero volume or folded over itself, kept as is");
     }
-    return out;
+    if (report.degenerate.size() > kListed) {
+        notes->push_back("... and " + with_commas(report.degenerate.size() - kListed) + " more degenerate cells");
+    }
 }
 
 inline bool all_finite(double x, double y, double z) { return std::isfinite(x) && std::isfinite(y) && std::isfinite(z); }

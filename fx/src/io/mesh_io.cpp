@@ -22,7 +22,8 @@ bool starts_with_vtk_header(const char* data, std::size_t size) {
     return true;
 }
 
-// "#" comment lines, then a line of exactly five non-negative integers.
+// "#" comment lines, then a line of exactly five integers (the UCD reader rejects negative
+// counts with a message of its own).
 bool looks_like_ucd(const char* data, std::size_t size) {
     std::size_t pos = 0;
     const std::size_t limit = std::min<std::size_t>(size, 64 * 1024);
@@ -41,10 +42,17 @@ bool looks_like_ucd(const char* data, std::size_t size) {
         const std::size_t start = pos;
         while (pos < limit && !io::is_space(data[pos])) ++pos;
         std::int64_t v = 0;
-        if (!io::parse_int64(std::string_view(data + start, pos - start), v) || v < 0) return false;
+        if (!io::parse_int64(std::string_view(data + start, pos - start), v)) return false;
         ++numbers;
     }
     return numbers == 5 && pos < limit; // the header line must end inside what we looked at
+}
+
+// Text rather than binary: no NUL byte in the first 4 KiB (every PLOT3D header has some: its
+// dims are small 32-bit integers).
+bool looks_like_text(const char* data, std::size_t size) {
+    const std::size_t n = std::min<std::size_t>(size, 4096);
+    return n > 0 && std::find(data, data + n, '\0') == data + n;
 }
 
 } // namespace
@@ -64,9 +72,18 @@ MeshFileFormat sniff_mesh_format(const char* data, std::size_t size) {
     return MeshFileFormat::Plot3d;
 }
 
-CellMesh read_mesh(const std::string& path, const std::string& q_path, std::vector<std::string>* notes) {
+CellMesh read_mesh(const std::string& path, const std::string& q_path, std::vector<std::string>* notes) try {
     const std::vector<char> bytes = io::read_file_bytes(path);
     const MeshFileFormat format = sniff_mesh_format(bytes.data(), bytes.size());
+    if (format == MeshFileFormat::Plot3d && looks_like_text(bytes.data(), bytes.size())) {
+        std::size_t first = 0;
+        while (first < bytes.size() && io::is_space(bytes[first])) ++first;
+        const bool json = first < bytes.size() && (bytes[first] == '{' || bytes[first] == '[');
+        throw Error(path + ": not a mesh file cellfx reads: it is text, but neither VTK legacy (a first line \"# vtk "
+                           "DataFile ...\") nor AVS UCD (a line of five counts after \"#\" comments); PLOT3D files are "
+                           "binary" +
+                    std::string(json ? ". It looks like JSON: `cellfx render` takes a scene file named *.json" : ""));
+    }
     if (format != MeshFileFormat::Plot3d && !q_path.empty()) {
         throw Error(q_path + ": a q (solution) file only goes with a PLOT3D grid, but " + path + " is " +
                     mesh_file_format_name(format));
@@ -80,6 +97,11 @@ CellMesh read_mesh(const std::string& path, const std::string& q_path, std::vect
     if (q_path.empty()) return parse_plot3d(bytes, path, nullptr, "", notes).mesh;
     const std::vector<char> q = io::read_file_bytes(q_path);
     return parse_plot3d(bytes, path, &q, q_path, notes).mesh;
+} catch (const std::bad_alloc&) {
+    // The budgets (resource_limits.hpp) stop what a file claims before it is allocated; this is
+    // what a machine with less memory than they allow runs into.
+    throw Error(path + ": out of memory reading the mesh (lower the mesh-points and mesh-cells limits to be told "
+                       "before allocating, or free memory)");
 }
 
 } // namespace fx

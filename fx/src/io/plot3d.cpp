@@ -100,19 +100,31 @@ struct Layout {
     std::vector<std::size_t> field_offsets; // q only: density array
     std::uint64_t expected_size = 0;
     bool markers_ok = true;                 // every marker inside the file matched
+    std::string bad_marker;                 // the first that did not: where, what it says, what fits
 };
+
+// Checks the record marker at `offset` (inside the file) against the record's length.
+void check_marker(const Bytes& b, Layout& l, std::uint64_t offset, std::uint64_t length, const char* which) {
+    if (!b.has(offset, 4)) return;
+    const std::int32_t found = b.int32(offset, l.format.big_endian);
+    if (length <= std::uint64_t(std::numeric_limits<std::int32_t>::max()) && found == std::int32_t(length)) return;
+    if (l.markers_ok) {
+        l.bad_marker = "the record marker at byte " + std::to_string(offset) + " (" + which + ") says " +
+                       std::to_string(found) + " bytes, but the record holds " + std::to_string(length);
+    }
+    l.markers_ok = false;
+}
 
 std::size_t real_size(bool double_precision) { return double_precision ? 8 : 4; }
 
 Layout grid_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
-    Layout l{f, h, {}, {}, 0, true};
+    Layout l{f, h, {}, {}, 0, true, {}};
     std::uint64_t offset = h.data_offset;
     for (const Dims& d : h.dims) {
         const std::uint64_t length = node_count(d) * (3 * real_size(f.double_precision) + (f.iblank ? 4 : 0));
         if (f.record_markers) {
-            if (b.has(offset, 4) && b.int32(offset, f.big_endian) != std::int32_t(length)) l.markers_ok = false;
-            if (b.has(offset + 4 + length, 4) && b.int32(offset + 4 + length, f.big_endian) != std::int32_t(length)) l.markers_ok = false;
-            if (length > std::uint64_t(std::numeric_limits<std::int32_t>::max())) l.markers_ok = false;
+            check_marker(b, l, offset, length, "opening a block's coordinates");
+            check_marker(b, l, offset + 4 + length, length, "closing a block's coordinates");
             offset += 4;
         }
         l.block_offsets.push_back(offset);
@@ -123,14 +135,13 @@ Layout grid_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
 }
 
 Layout q_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
-    Layout l{f, h, {}, {}, 0, true};
+    Layout l{f, h, {}, {}, 0, true, {}};
     std::uint64_t offset = h.data_offset;
     const std::size_t s = real_size(f.double_precision);
     auto record = [&](std::uint64_t length) {
         if (f.record_markers) {
-            if (b.has(offset, 4) && b.int32(offset, f.big_endian) != std::int32_t(length)) l.markers_ok = false;
-            if (b.has(offset + 4 + length, 4) && b.int32(offset + 4 + length, f.big_endian) != std::int32_t(length)) l.markers_ok = false;
-            if (length > std::uint64_t(std::numeric_limits<std::int32_t>::max())) l.markers_ok = false;
+            check_marker(b, l, offset, length, "opening a record");
+            check_marker(b, l, offset + 4 + length, length, "closing a record");
             offset += 4;
         }
         const std::uint64_t start = offset;
@@ -145,12 +156,76 @@ Layout q_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
     return l;
 }
 
+// Why no reading of the header gives dims the file can hold: the most telling reason among
+// the variants (a plausible header whose nodes need more bytes than the file has, or a
+// header record marker that disagrees), for the error message.
+std::string explain_header(const Bytes& b) {
+    std::string truncated_marked, truncated, marker;
+    for (bool markers : {true, false}) {
+        for (bool big_endian : {true, false}) {
+            for (bool multi : {false, true}) {
+                const std::string variant = std::string(big_endian ? "big-endian" : "little-endian") + ", " +
+                                            (markers ? "with record markers" : "no record markers") + ", " +
+                                            (multi ? "multi-block" : "single block");
+                std::size_t offset = 0;
+                std::uint64_t blocks = 1;
+                if (multi) {
+                    if (markers && (!b.has(0, 4) || b.int32(0, big_endian) != 4)) continue;
+                    offset = markers ? 4 : 0;
+                    if (!b.has(offset, 4)) continue;
+                    const std::int32_t nb = b.int32(offset, big_endian);
+                    if (nb < 1 || nb > (1 << 20)) continue;
+                    blocks = std::uint64_t(nb);
+                    offset += markers ? 8 : 4;
+                }
+                if (markers) {
+                    if (!b.has(offset, 4) || b.int32(offset, big_endian) != std::int32_t(12 * blocks)) continue;
+                    const std::size_t close = offset + 4 + 12 * blocks;
+                    if (b.has(close, 4) && b.int32(close, big_endian) != std::int32_t(12 * blocks) && marker.empty()) {
+                        marker = "read as " + variant + ", the record marker at byte " + std::to_string(close) + " says " +
+                                 std::to_string(b.int32(close, big_endian)) + " where the one at byte " +
+                                 std::to_string(offset) + " says " + std::to_string(12 * blocks) + " (a damaged or lying marker)";
+                    }
+                    offset += 4;
+                }
+                if (!b.has(offset, 12 * blocks)) continue;
+                std::uint64_t nodes = 0;
+                bool plausible = true;
+                std::string dims;
+                for (std::uint64_t k = 0; k < blocks && plausible; ++k) {
+                    std::uint64_t n = 1;
+                    for (int a = 0; a < 3; ++a) {
+                        const std::int32_t v = b.int32(offset + 12 * k + 4 * a, big_endian);
+                        plausible = plausible && v >= 1 && std::uint64_t(v) <= kMaxDim;
+                        n *= plausible ? std::uint64_t(v) : 1;
+                        if (k == 0) dims += (a ? " x " : "") + std::to_string(v);
+                    }
+                    nodes += n;
+                }
+                const std::uint64_t needed = nodes * 12 + offset + 12 * blocks;
+                if (!plausible || needed <= b.data.size()) continue;
+                std::string& slot = markers ? truncated_marked : truncated;
+                if (slot.empty()) {
+                    slot = "read as " + variant + ", the header gives " + std::to_string(blocks) + " block(s) of " + dims +
+                           (blocks > 1 ? ", ..." : "") + " nodes (" + io::with_commas(nodes) + " in all), whose coordinates need at least " +
+                           io::with_commas(needed) + " bytes, but the file has " + io::with_commas(b.data.size()) +
+                           ": it is truncated, or its header is wrong";
+                }
+            }
+        }
+    }
+    if (!truncated_marked.empty()) return truncated_marked;
+    if (!marker.empty()) return marker;
+    return truncated;
+}
+
 // Picks the grid interpretation that accounts for every byte of the file.
 Layout detect_grid(const Bytes& b, std::vector<std::string>& ambiguity) {
     if (b.data.empty()) b.fail(0, "empty file");
     std::vector<Layout> exact;
     const Layout* closest = nullptr;
     std::vector<Layout> near; // candidates that do not fit, kept for the error message
+    std::string bad_marker;   // the first data record marker that ruled a reading out
     for (bool big_endian : {true, false}) {
         for (bool markers : {true, false}) {
             for (bool multi : {false, true}) {
@@ -160,7 +235,10 @@ Layout detect_grid(const Bytes& b, std::vector<std::string>& ambiguity) {
                     for (bool iblank : {false, true}) {
                         const Plot3dFormat f{big_endian, markers, double_precision, iblank, multi};
                         Layout l = grid_layout(b, f, h);
-                        if (!l.markers_ok) continue;
+                        if (!l.markers_ok) {
+                            if (bad_marker.empty()) bad_marker = "read as " + describe(f) + ", " + l.bad_marker;
+                            continue;
+                        }
                         if (l.expected_size == b.data.size()) {
                             exact.push_back(std::move(l));
                         } else {
@@ -184,8 +262,10 @@ Layout detect_grid(const Bytes& b, std::vector<std::string>& ambiguity) {
         if (!closest || distance < best) closest = &l;
     }
     if (!closest) {
+        const std::string why = !bad_marker.empty() ? bad_marker : explain_header(b);
         b.fail(0, "not a PLOT3D grid file: no reading of the header (either byte order, with or without record markers, "
-                  "single or multi-block) gives plausible block dimensions for a file of " + std::to_string(size) + " bytes");
+                  "single or multi-block) gives plausible block dimensions for a file of " + std::to_string(size) + " bytes" +
+                  (why.empty() ? std::string() : "; " + why));
     }
     std::string dims;
     for (std::size_t k = 0; k < closest->header.dims.size() && k < 4; ++k) dims += (k ? ", " : "") + dims_text(closest->header.dims[k]);
@@ -243,6 +323,9 @@ Layout detect_q(const Bytes& b, const Plot3dFormat& grid_format, const std::vect
         b.fail(size, "truncated q file in block " + std::to_string(block) + ": as " + describe(truncated->format) + " it needs " +
                          std::to_string(truncated->expected_size) + " bytes but has " + std::to_string(size));
     }
+    for (const Layout& l : candidates) {
+        if (!l.markers_ok) b.fail(0, "q file does not match the grid: as " + describe(l.format) + ", " + l.bad_marker);
+    }
     b.fail(0, "q file does not match the grid: no precision explains its " + std::to_string(size) + " bytes");
 }
 
@@ -273,6 +356,8 @@ Plot3dData parse_plot3d(const std::vector<char>& xyz_bytes, const std::string& x
     if (total_nodes >= std::numeric_limits<std::uint32_t>::max() || total_cells * 8 >= std::numeric_limits<std::uint32_t>::max()) {
         grid.fail(0, "grid too large for cellfx's 32-bit indices");
     }
+    if (exceeds(Limit::MeshPoints, total_nodes)) grid.fail(0, over_limit(Limit::MeshPoints, total_nodes, "the grid's nodes"));
+    if (exceeds(Limit::MeshCells, total_cells)) grid.fail(0, over_limit(Limit::MeshCells, total_cells, "the grid's cells"));
     mesh.points.resize(total_nodes);
     mesh.cell_types.reserve(total_cells);
     mesh.connectivity.reserve(total_cells * 8);
@@ -371,6 +456,12 @@ Plot3dData parse_plot3d(const std::vector<char>& xyz_bytes, const std::string& x
             if (bad) local_notes.push_back("field \"" + mesh.scalars[field].name + "\": " + io::with_commas(bad) + " non-finite values");
         }
     }
+    // Blocks with a left-handed (i, j, k) give inverted cells: every reader orients them.
+    io::orient_and_note(mesh, &local_notes, [&](std::uint32_t c) {
+        std::size_t k = 0;
+        while (k + 1 < mesh.blocks.size() && mesh.blocks[k + 1].first_cell <= c) ++k;
+        return "cell " + std::to_string(c) + " (block " + std::to_string(k) + ")";
+    });
     if (notes) notes->insert(notes->end(), local_notes.begin(), local_notes.end());
     return out;
 }

@@ -186,6 +186,10 @@ private:
         return t;
     }
 
+    // Checks a count against the resource budget (fx/resource_limits.hpp) before allocating.
+    void check_budget(Limit limit, std::uint64_t count, std::size_t pos, const std::string& what) const {
+        if (exceeds(limit, count)) fail_line(pos, over_limit(limit, count, what));
+    }
     // Checks that `count` values of `type` can still be in the file, before anything is allocated.
     void check_room(std::size_t count, std::size_t per_item, const DataType& type, const std::string& what) const {
         const std::size_t left = s_.remaining();
@@ -312,6 +316,7 @@ void VtkReader::read_points(const HeaderLine& h) {
     }
     const DataType type = type_token(h, 2);
     check_room(n, 3, type, "POINTS");
+    check_budget(Limit::MeshPoints, n, h.pos, "POINTS");
     points_pos_ = s_.pos();
     coords_.resize(3 * n);
     std::size_t pos = 0;
@@ -338,6 +343,7 @@ void VtkReader::read_cells(const HeaderLine& h) {
         if (first_count == 0) fail_line(h.pos, "CELLS with OFFSETS needs at least one offset");
         const DataType offset_type = type_token(offsets_line, 1);
         check_room(first_count, 1, offset_type, "OFFSETS");
+        check_budget(Limit::MeshCells, first_count - 1, h.pos, "CELLS");
         cell_offsets_.resize(first_count);
         cell_pos_.resize(first_count - 1);
         std::size_t pos = 0;
@@ -375,6 +381,7 @@ void VtkReader::read_cells(const HeaderLine& h) {
     check_room(second_count, 1, int_type, "CELLS");
     if (first_count > second_count) fail_line(h.pos, "CELLS: " + std::to_string(first_count) +
                                                          " cells cannot fit in a list of " + std::to_string(second_count));
+    check_budget(Limit::MeshCells, first_count, h.pos, "CELLS");
     cell_offsets_.reserve(first_count + 1);
     cell_offsets_.push_back(0);
     cell_conn_.reserve(second_count - first_count);
@@ -405,6 +412,7 @@ void VtkReader::read_cell_types(const HeaderLine& h) {
     const std::size_t n = count_token(h, 1, "number of cell types");
     const DataType int_type{"int", 4, ValueKind::Int};
     check_room(n, 1, int_type, "CELL_TYPES");
+    check_budget(Limit::MeshCells, n, h.pos, "CELL_TYPES");
     cell_types_.resize(n);
     cell_type_pos_.resize(n);
     for (std::size_t c = 0; c < n; ++c) {
@@ -605,6 +613,8 @@ CellMesh VtkReader::build_unstructured() {
     copy_points(mesh);
     const std::size_t npoints = mesh.points.size();
     std::map<int, std::size_t> skipped_by_type;
+    std::vector<std::uint32_t> file_cell; // the file's cell index of each mesh cell
+    file_cell.reserve(cells);
     std::size_t voxels = 0;
     mesh.cell_types.reserve(cells);
     mesh.connectivity.reserve(cell_conn_.size());
@@ -641,6 +651,7 @@ CellMesh VtkReader::build_unstructured() {
             ++voxels;
         }
         mesh.add_cell(type, v);
+        file_cell.push_back(static_cast<std::uint32_t>(c));
     }
     if (voxels) note("converted " + io::with_commas(voxels) + " voxels (type 11) to hexahedra");
     static const char* kDimension[10] = {"", "0-D", "0-D", "1-D", "1-D", "2-D", "2-D", "2-D", "2-D", "2-D"};
@@ -654,6 +665,10 @@ CellMesh VtkReader::build_unstructured() {
         }
         if (total) note("skipped " + io::with_commas(total) + " " + dim + " cells (type" + (types.find(',') != std::string::npos ? "s " : " ") + types + ")");
     }
+    io::orient_and_note(mesh, notes_, [&](std::uint32_t c) {
+        const std::size_t pos = cell_pos_[file_cell[c]];
+        return "cell " + std::to_string(file_cell[c]) + (binary_ ? " (byte " + std::to_string(pos) : " (line " + std::to_string(s_.line_of(pos))) + ")";
+    });
     return mesh;
 }
 
@@ -689,6 +704,10 @@ CellMesh VtkReader::build_structured() {
             }
         }
     }
+    io::orient_and_note(mesh, notes_, [&](std::uint32_t c) {
+        const std::uint64_t i = c % (ni - 1), j = c / (ni - 1) % (nj - 1), k = c / (ni - 1) / (nj - 1);
+        return "cell " + std::to_string(c) + " (i, j, k = " + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
+    });
     return mesh;
 }
 

@@ -17,7 +17,8 @@ bool same_vertices(const FaceKey& a, const FaceKey& b) { return a.v == b.v; }
 } // namespace
 
 std::size_t FaceTopology::memory_bytes() const {
-    return (first_face.capacity() + neighbour.capacity() + slot_cell.capacity() + boundary_faces.capacity()) *
+    return (first_face.capacity() + neighbour.capacity() + slot_cell.capacity() + boundary_faces.capacity() +
+            non_manifold_slots.capacity() + non_manifold_first.capacity()) *
            sizeof(std::uint32_t);
 }
 
@@ -75,6 +76,8 @@ FaceTopology build_face_topology(const CellMesh& mesh) {
             // More than two cells on one face: the mesh is not a manifold there. Leave those
             // faces as boundary so nothing is hidden, and count the occurrence.
             ++topo.non_manifold_faces;
+            for (std::size_t k = i; k < j; ++k) topo.non_manifold_slots.push_back(grouped[k].slot);
+            topo.non_manifold_first.push_back(static_cast<std::uint32_t>(topo.non_manifold_slots.size()));
         }
         i = j;
     }

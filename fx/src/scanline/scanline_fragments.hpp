@@ -13,12 +13,14 @@ namespace fx::scanline {
 
 // One crossing of a triangle with a pixel ray: Table 2's depth and data value (q, the scalar
 // times w), with what the pixel walk needs to know about the triangle (its code breaks
-// depth ties; grid and whether it toggles inside/outside).
+// depth ties; grid, whether it toggles inside/outside, and whether the ray enters the cell
+// there, which the walk uses to see overlapping cells).
 struct Fragment {
     double z, q;
     std::uint32_t id;
-    std::uint32_t grid : 31;
+    std::uint32_t grid : 30;
     std::uint32_t toggles : 1;
+    std::uint32_t enters : 1;
 };
 
 // Depth order with ties broken by triangle code: the same order whichever thread or chunk

@@ -63,10 +63,18 @@ struct Vertex {
     double x, y, z, s;
 };
 
+// How the pixel walk tells whether a ray enters a cell where it crosses a triangle.
+enum class Facing : std::uint8_t {
+    Winding,  // by its winding on screen (a piece of a mesh triangle, outward winding)
+    Reversed, // the same, for a piece of an inverted cell's triangle
+    Enters,   // always: a near-plane cap, where the ray starts inside the cell
+};
+
 struct ExtraTriangle {
     std::uint32_t v[3]; // indices into FrameGeometry::extra_vertices
     std::uint32_t grid;
     bool toggles; // grid surface, cap or clip-box polygon
+    Facing facing;
 };
 
 struct FrameGeometry {
@@ -88,13 +96,14 @@ struct FrameGeometry {
     // so every triangle and cap sharing the edge gets bit-identical coordinates.
     Vertex near_point(std::uint32_t a, std::uint32_t b) const;
 
-    // Adds the part of triangle (a, b, c) in front of the near plane (1 or 2 triangles).
-    void add_clipped_triangle(const std::uint32_t tri[3], std::uint32_t grid, bool toggles);
+    // Adds the part of triangle (a, b, c) in front of the near plane (1 or 2 triangles),
+    // keeping its winding.
+    void add_clipped_triangle(const std::uint32_t tri[3], std::uint32_t grid, bool toggles, Facing facing);
     // Adds the near-plane cross-section of a closed cell given by its face triangles
     // (outward winding, 3 ids each). Returns the number of cap triangles added.
     std::size_t add_cap(const std::uint32_t* face_triangles, int triangle_count, std::uint32_t grid);
     // Adds a triangle whose three vertices are in front of the near plane.
-    void add_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::uint32_t grid, bool toggles);
+    void add_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::uint32_t grid, bool toggles, Facing facing);
 };
 
 } // namespace fx::scanline

@@ -58,16 +58,16 @@ Vertex FrameGeometry::near_point(std::uint32_t a, std::uint32_t b) const {
 }
 
 void FrameGeometry::add_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::uint32_t grid,
-                                 bool toggles) {
+                                 bool toggles, Facing facing) {
     const auto base = static_cast<std::uint32_t>(extra_vertices.size());
     for (const Vertex* v : {&a, &b, &c}) {
         extra_vertices.push_back(ScreenPoint{static_cast<float>(v->x), static_cast<float>(v->y),
                                              static_cast<float>(v->z), static_cast<float>(v->s)});
     }
-    extra_triangles.push_back(ExtraTriangle{{base, base + 1, base + 2}, grid, toggles});
+    extra_triangles.push_back(ExtraTriangle{{base, base + 1, base + 2}, grid, toggles, facing});
 }
 
-void FrameGeometry::add_clipped_triangle(const std::uint32_t tri[3], std::uint32_t grid, bool toggles) {
+void FrameGeometry::add_clipped_triangle(const std::uint32_t tri[3], std::uint32_t grid, bool toggles, Facing facing) {
     // Sutherland–Hodgman against the one plane z_e = near: at most 4 vertices.
     std::array<Vertex, 4> poly;
     int n = 0;
@@ -78,8 +78,8 @@ void FrameGeometry::add_clipped_triangle(const std::uint32_t tri[3], std::uint32
         if (a_in != b_in) poly[n++] = near_point(a, b);
     }
     if (n < 3) return;
-    add_triangle(poly[0], poly[1], poly[2], grid, toggles);
-    if (n == 4) add_triangle(poly[0], poly[2], poly[3], grid, toggles);
+    add_triangle(poly[0], poly[1], poly[2], grid, toggles, facing);
+    if (n == 4) add_triangle(poly[0], poly[2], poly[3], grid, toggles, facing);
 }
 
 std::size_t FrameGeometry::add_cap(const std::uint32_t* face_triangles, int triangle_count, std::uint32_t grid) {
@@ -126,7 +126,7 @@ std::size_t FrameGeometry::add_cap(const std::uint32_t* face_triangles, int tria
     if (n != segments || !(end[current] == start[0])) return 0;
     std::array<Vertex, kMaxSegments> p;
     for (int i = 0; i < n; ++i) p[i] = near_point(loop[i].lo, loop[i].hi);
-    for (int i = 1; i + 1 < n; ++i) add_triangle(p[0], p[i], p[i + 1], grid, true);
+    for (int i = 1; i + 1 < n; ++i) add_triangle(p[0], p[i], p[i + 1], grid, true, Facing::Enters);
     return static_cast<std::size_t>(n - 2);
 }
 

@@ -22,6 +22,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -32,6 +34,8 @@
 
 #include "fx/error.hpp"
 #include "fx/face_topology.hpp"
+#include "fx/mesh_validation.hpp"
+#include "fx/resource_limits.hpp"
 #include "fx/segment_integral.hpp"
 #include "scanline/scanline_fragments.hpp"
 #include "scanline/scanline_frame.hpp"
@@ -48,8 +52,9 @@ struct SVertex {
 struct ScanTriangle {
     ScreenPoint v[3];
     std::uint32_t id;
-    std::uint32_t grid : 31;
+    std::uint32_t grid : 30;
     std::uint32_t toggles : 1;
+    std::uint32_t enters : 1; // a ray crossing it enters its cell (front-facing outward winding)
 };
 
 // Table 1 of the paper: a triangle active over several scan lines, with its last line.
@@ -70,7 +75,8 @@ struct Crossing {
     double z, s;
     double inv_w; // 1 / w(z)
     std::uint32_t grid;
-    bool toggles;
+    std::uint32_t id;
+    bool toggles, enters;
 };
 
 constexpr std::size_t kNoCrossing = ~std::size_t(0);
@@ -80,6 +86,20 @@ struct GridSegment {
     std::size_t a = 0, b = kNoCrossing;
     double z_a = 0.0, s_a = 0.0, ds = 0.0;
     double scale = 0.0; // w(z_b) / (z_b − z_a), 0 for an empty segment
+};
+
+// Counts, along one pixel's ray, how many cells of one grid the ray is inside: +1 where it
+// enters a cell through a grid surface, −1 where it leaves. In a grid whose cells do not
+// overlap the count stays 0 or 1 and equals the inside/outside parity; 2 or more (or −1) over
+// more than rounding's worth of depth means overlapping cells (or a surface that is not
+// closed), which parity would silently get wrong.
+struct SurfaceWalk {
+    int count = 0;
+    int bad_from = -1;              // crossing where the count left {0, 1}; −1 if it has not
+    int bad_count = 0;              // the count it left for
+    std::uint32_t bad_id = 0;       // code of that crossing
+    std::uint32_t last = ~0u;       // code of the grid's crossing before it (~0u: none)
+    bool last_entered = false;      // ... and whether that one entered a cell through a surface
 };
 
 // Bytes held by a vector (capacity, not size).
@@ -104,10 +124,11 @@ struct alignas(64) WorkerBuffers {
     std::vector<GridSegment> segment; // per grid
     std::vector<std::uint32_t> inside_list;
     std::vector<SpanVolume> span_volumes; // per-grid media: the grids over one span
+    std::vector<SurfaceWalk> walks; // per grid
 
     std::size_t active_bytes() const {
         return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
-               bytes(inside_list);
+               bytes(inside_list) + bytes(span_volumes) + bytes(walks);
     }
     std::size_t x_bytes() const {
         return bytes(fragments) + bytes(sorted) + bytes(scratch) + bytes(runs) + bytes(xcount);
@@ -141,24 +162,48 @@ using scanline::PixelFragment;
 using scanline::ScanTriangle;
 using scanline::ScreenPoint;
 using scanline::SVertex;
+using scanline::SurfaceWalk;
 using scanline::Vertex;
 using scanline::WorkerBuffers;
 using scanline::bytes;
 
 constexpr std::uint16_t kDropped = 0xFFFF;
+// Per-cell flags kept by the renderer (ScanlineRenderer::cell_flags_).
+constexpr std::uint8_t kInvertedCell = 1; // faces wind inward: a crossing's facing is reversed
+constexpr std::uint8_t kFlatCell = 2;     // zero volume: holds no medium, not drawn
+// Bytes a fragment holds during a scan line: its PixelFragment, its sorted copy, the merge buffer.
+constexpr std::size_t kFragmentBytes = sizeof(PixelFragment) + 2 * sizeof(Fragment);
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Runs fn(thread_index) on `threads` threads (the caller is thread 0) and waits.
+// Runs fn(thread_index) for every index in [0, threads) on that many threads (the caller is
+// thread 0) and waits. An exception on any thread (std::bad_alloc included) is rethrown here,
+// on the caller's, after all have finished; shares whose thread could not be started run on
+// the caller.
 template <class Fn>
 void run_threads(unsigned threads, const Fn& fn) {
+    std::vector<std::exception_ptr> errors(threads);
+    auto guarded = [&](unsigned t) {
+        try {
+            fn(t);
+        } catch (...) {
+            errors[t] = std::current_exception();
+        }
+    };
     std::vector<std::thread> pool;
-    pool.reserve(threads - 1);
-    for (unsigned t = 1; t < threads; ++t) pool.emplace_back([&fn, t]() { fn(t); });
-    fn(0u);
+    unsigned started = 1;
+    try {
+        pool.reserve(threads - 1);
+        for (; started < threads; ++started) pool.emplace_back(guarded, started);
+    } catch (...) { // no memory or no threads left: the caller does the rest
+    }
+    guarded(0u);
+    for (unsigned t = started; t < threads; ++t) guarded(t);
     for (std::thread& th : pool) th.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
 }
 
 // Smallest pixel index whose centre (i + 0.5) is ≥ v, and largest whose centre is < v.
@@ -297,6 +342,12 @@ struct FrameContext {
     std::uint32_t grid_count; // blocks + 1 (the clip box)
     std::uint32_t clip_grid;
     bool clip;
+    const std::uint8_t* cell_flags; // kInvertedCell, kFlatCell per cell
+    // Depth difference (pixel units) below which crossings count as one place when the walk
+    // looks for overlapping cells: rounding of coincident faces, not overlap.
+    double z_tolerance;
+    std::size_t max_fragments; // per worker and scan line: the frame-bytes budget's share
+    unsigned workers;
     OpticalModel model;
     const TransferFunction* tf;
     const Medium* medium; // per-grid media (ScanlineOptions::medium), or null
@@ -321,6 +372,7 @@ public:
         b_.inside.assign(ctx.grid_count, 0);
         b_.segment.assign(ctx.grid_count, GridSegment{});
         b_.seen.assign(ctx.grid_count, -1);
+        b_.walks.assign(ctx.grid_count, SurfaceWalk{});
         cursor_ = 0;
     }
 
@@ -343,6 +395,13 @@ private:
     void add_fragments(const ScanTriangle& t, double yc);
     // Walks pixel (x, y)'s crossings in depth order (§2.4 Figure 6).
     void shade_pixel(int x, int y, const Fragment* frags, std::size_t n);
+    // Counts the crossing (depth z, code id) in the grid's walk; throws fx::Error when the ray
+    // has been inside two cells of the grid at once (or fewer than none) over more than
+    // rounding's worth of depth. `z_of(k)` gives the depth of crossing k.
+    template <class DepthOf>
+    void walk_surface(SurfaceWalk& w, std::uint32_t grid, std::size_t k, bool toggles, bool enters, std::uint32_t id,
+                      const DepthOf& z_of, int x, int y) const;
+    [[noreturn]] void report_overlap(const SurfaceWalk& w, std::uint32_t grid, int x, int y) const;
 
     const FrameContext& ctx_;
     WorkerBuffers& b_;
@@ -379,6 +438,14 @@ void Worker::prefetch_ahead(const std::uint32_t* codes, std::uint32_t i, std::ui
     }
 }
 
+// True when the triangle winds counter-clockwise on screen (y up): its outward side faces
+// the eye, so a ray crossing it enters the cell.
+inline bool counter_clockwise(const ScreenPoint v[3]) {
+    const double area = (double(v[1].x) - v[0].x) * (double(v[2].y) - v[0].y) -
+                        (double(v[1].y) - v[0].y) * (double(v[2].x) - v[0].x);
+    return area > 0.0;
+}
+
 void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
     const FrameGeometry& geo = *ctx_.geo;
     t.id = code;
@@ -390,10 +457,12 @@ void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
         if (cell < ctx_.block_begin[cursor_]) cursor_ = 0;
         while (cell >= ctx_.block_end[cursor_]) ++cursor_;
         t.grid = static_cast<std::uint32_t>(cursor_);
+        t.enters = counter_clockwise(t.v) != ((ctx_.cell_flags[cell] & kInvertedCell) != 0);
     } else {
         const ExtraTriangle& e = geo.extra_triangles[code_index(code)];
         for (int i = 0; i < 3; ++i) t.v[i] = geo.extra_vertices[e.v[i]];
         t.grid = e.grid;
+        t.enters = e.facing == scanline::Facing::Enters || counter_clockwise(t.v) != (e.facing == scanline::Facing::Reversed);
     }
     sort_bottom_to_top(t.v);
 }
@@ -455,6 +524,12 @@ void Worker::add_fragments(const ScanTriangle& t, double yc) {
     const double zl = a_left ? za : zb, zr = a_left ? zb : za;
     const double ql = a_left ? qa : qb, qr = a_left ? qb : qa;
     const double inv_width = 1.0 / (xr - xl);
+    if (b_.fragments.size() + static_cast<std::size_t>(last - first + 1) > ctx_.max_fragments) {
+        throw Error("scan-line renderer: " + over_limit(Limit::FrameBytes, (b_.fragments.size() + std::size_t(last - first + 1)) *
+                                                                            kFragmentBytes * ctx_.workers,
+                                                        "scan line " + std::to_string(static_cast<int>(yc)) + "'s " +
+                                                            with_commas(b_.fragments.size()) + " crossings"));
+    }
     for (int x = first; x <= last; ++x) {
         const double xc = x + 0.5;
         PixelFragment pf;
@@ -463,6 +538,7 @@ void Worker::add_fragments(const ScanTriangle& t, double yc) {
         pf.f.id = t.id;
         pf.f.grid = t.grid;
         pf.f.toggles = t.toggles;
+        pf.f.enters = t.enters;
         pf.x = x;
         b_.fragments.push_back(pf);
         ++b_.xcount[x + 1];
@@ -552,7 +628,9 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         if (ctx_.model == OpticalModel::EmissionAbsorption) {
             out = glm::vec4(glm::vec3(acc.color), static_cast<float>(acc.alpha));
         } else {
-            out = glm::vec4(glm::vec3(sum), 0.0f);
+            // Emitted light has no upper bound (extinction up to 1e32 over a mesh of 1e18):
+            // the float image saturates at its largest value rather than turning infinite.
+            out = glm::vec4(glm::vec3(glm::min(sum, glm::dvec3(std::numeric_limits<float>::max()))), 0.0f);
         }
     };
     auto scalar = [&](const Fragment& f) { return f.q * (1.0 / dm.w(f.z)); }; // as Crossing::s
@@ -564,7 +642,11 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         // from a crossing of the grid to the next one.
         bool in = false;
         double s_front = scalar(frags[0]);
-        for (std::size_t k = 0; k + 1 < n; ++k) {
+        SurfaceWalk walk;
+        const auto z_of = [frags](std::size_t k) { return frags[k].z; };
+        for (std::size_t k = 0; k < n; ++k) {
+            walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
+            if (k + 1 == n) break;
             const double s_back = scalar(frags[k + 1]);
             if (frags[k].toggles) in = !in;
             if (in) {
@@ -582,7 +664,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     for (std::size_t k = 0; k < n; ++k) {
         const Fragment& f = frags[k];
         const double inv_w = 1.0 / dm.w(f.z);
-        cross[k] = Crossing{f.z, f.q * inv_w, inv_w, f.grid, f.toggles != 0};
+        cross[k] = Crossing{f.z, f.q * inv_w, inv_w, f.grid, f.id, f.toggles != 0, f.enters != 0};
     }
     // Next crossing of the same grid, for segments that other grids' crossings split.
     for (std::size_t k = n; k-- > 0;) {
@@ -606,8 +688,11 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         return g.s_a + g.ds * ((cross[j].z - g.z_a) * g.scale * cross[j].inv_w);
     };
 
+    std::vector<SurfaceWalk>& walks = b_.walks;
+    const auto z_of = [&cross](std::size_t k) { return cross[k].z; };
     for (std::size_t k = 0; k < n; ++k) {
         const Crossing& c = cross[k];
+        if (c.grid != ctx_.clip_grid) walk_surface(walks[c.grid], c.grid, k, c.toggles, c.enters, c.id, z_of, x, y);
         if (c.toggles) {
             if (c.grid == ctx_.clip_grid) {
                 clip_in = !clip_in;
@@ -680,30 +765,76 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         }
     }
     for (std::uint32_t g : inside_list) inside[g] = 0;
+    for (std::size_t k = 0; k < n; ++k) walks[cross[k].grid] = SurfaceWalk{};
     write();
+}
+
+template <class DepthOf>
+void Worker::walk_surface(SurfaceWalk& w, std::uint32_t grid, std::size_t k, bool toggles, bool enters, std::uint32_t id,
+                          const DepthOf& z_of, int x, int y) const {
+    if (w.bad_from >= 0) {
+        // Inside two cells (or fewer than none) from crossing bad_from to this one: more than
+        // rounding (coincident faces of neighbouring cells with their own points) is overlap.
+        const double za = z_of(static_cast<std::size_t>(w.bad_from)), zb = z_of(k);
+        if (zb - za > 1e-5 * (std::abs(za) + std::abs(zb)) + ctx_.z_tolerance) report_overlap(w, grid, x, y);
+    }
+    if (toggles) {
+        w.count += enters ? 1 : -1;
+        if (w.count == 0 || w.count == 1) {
+            w.bad_from = -1;
+        } else if (w.bad_from < 0) {
+            w.bad_from = static_cast<int>(k);
+            w.bad_count = w.count;
+            w.bad_id = id;
+        }
+    }
+    if (w.bad_from < 0) {
+        w.last = id;
+        w.last_entered = toggles && enters;
+    }
+}
+
+void Worker::report_overlap(const SurfaceWalk& w, std::uint32_t grid, int x, int y) const {
+    auto name = [](std::uint32_t id) {
+        return is_extra(id) ? std::string("a cell cut by the near plane") : "cell " + std::to_string(code_index(id));
+    };
+    const std::string pixel = "the ray through pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+    std::string what;
+    if (w.bad_count > 1 && w.last != ~0u) {
+        what = w.last_entered ? name(w.bad_id) + " and " + name(w.last) + " overlap (" + pixel + " is inside both at once)"
+                              : name(w.bad_id) + " overlaps " + name(w.last) + " or a neighbour of it (" + pixel +
+                                    " is inside two cells at once)";
+    } else if (w.bad_count > 1) {
+        what = name(w.bad_id) + " overlaps another cell (" + pixel + " is inside two cells at once)";
+    } else {
+        what = pixel + " leaves " + name(w.bad_id) + " without having entered it: the block's surface is not closed "
+                       "there, or its cells overlap";
+    }
+    throw Error("scan-line renderer: block " + std::to_string(grid) + ": " + what +
+                "; the scan-line reference integrates a block only where its cells do not overlap: fix the mesh "
+                "(`cellfx info` lists duplicate cells), or give overlapping parts blocks of their own, whose media add");
 }
 
 } // namespace
 
-ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
-    for (const glm::dvec3& p : mesh.points) {
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-            throw Error("scan-line renderer: point " + std::to_string(&p - mesh.points.data()) +
-                        " has a non-finite coordinate");
-        }
-    }
-    for (std::size_t i = 0; i < mesh.connectivity.size(); ++i) {
-        if (mesh.connectivity[i] >= mesh.point_count()) {
-            throw Error("scan-line renderer: connectivity entry " + std::to_string(i) + " is point " +
-                        std::to_string(mesh.connectivity[i]) + " but the mesh has " +
-                        std::to_string(mesh.point_count()) + " points");
-        }
-    }
+ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) try : mesh_(mesh) {
+    const std::vector<CellShape> shapes = check_renderable(mesh, "scan-line renderer");
     if (mesh.cell_count() > kMaxCells) {
         throw Error("scan-line renderer: the mesh has " + std::to_string(mesh.cell_count()) +
                     " cells; at most 2^27 (134217728) are supported");
     }
+    cell_flags_.resize(mesh.cell_count(), 0);
+    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+        cell_flags_[c] = shapes[c] == CellShape::Inverted ? kInvertedCell : shapes[c] == CellShape::Flat ? kFlatCell : 0;
+    }
     const FaceTopology topo = build_face_topology(mesh);
+    const std::vector<CellOverlap> overlaps = find_overlapping_cells(mesh, topo, shapes);
+    if (!overlaps.empty()) {
+        throw Error("scan-line renderer: " + describe_overlap(overlaps[0]) +
+                    (overlaps.size() > 1 ? " (and " + with_commas(overlaps.size() - 1) + " more pairs)" : std::string()) +
+                    "; the scan-line reference integrates a block only where its cells do not overlap: fix the mesh, "
+                    "or give overlapping parts blocks of their own, whose media add");
+    }
     std::vector<std::uint32_t> block_of(mesh.cell_count(), 0);
     for (std::size_t b = 0; b < mesh.blocks.size(); ++b) {
         const Block& blk = mesh.blocks[b];
@@ -718,13 +849,15 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
         const Block& blk = mesh.blocks[b];
         const std::size_t c_end = std::min<std::size_t>(blk.first_cell + blk.cell_count, mesh.cell_count());
         for (std::size_t c = blk.first_cell; c < c_end; ++c) {
+            if (cell_flags_[c] & kFlatCell) continue; // no medium, and its faces would only toggle twice
             const CellFace* faces = cell_faces(mesh.cell_types[c]);
             for (int f = 0; f < cell_face_count(mesh.cell_types[c]); ++f) {
                 const std::uint32_t slot = topo.first_face[c] + static_cast<std::uint32_t>(f);
                 const std::uint32_t nb = topo.neighbour[slot];
-                // A grid surface: no neighbour in this block. A face shared inside the block
-                // is emitted once, by its lower slot.
-                const bool surface = nb == FaceTopology::kBoundary || block_of[topo.slot_cell[nb]] != b;
+                // A grid surface: no neighbour in this block (a flat neighbour is none). A face
+                // shared inside the block is emitted once, by its lower slot.
+                const bool surface = nb == FaceTopology::kBoundary || block_of[topo.slot_cell[nb]] != b ||
+                                     (cell_flags_[topo.slot_cell[nb]] & kFlatCell);
                 if (!surface && slot > nb) continue;
                 const int halves = faces[f].count == 4 ? 2 : 1;
                 for (int h = 0; h < halves; ++h) codes_.push_back(mesh_code(c, f, h, surface));
@@ -735,38 +868,39 @@ ScanlineRenderer::ScanlineRenderer(const CellMesh& mesh) : mesh_(mesh) {
     }
     codes_.shrink_to_fit();
     bounds_ = mesh_bounds(mesh);
+} catch (const std::bad_alloc&) {
+    throw Error("scan-line renderer: out of memory building the triangle table of " + with_commas(mesh.cell_count()) +
+                " cells (the mesh-cells limit bounds what is tried; lower it, or free memory)");
 }
 
 std::size_t ScanlineRenderer::memory_bytes() const {
-    return codes_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(CellRange);
+    return codes_.capacity() * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(CellRange) + cell_flags_.capacity();
 }
 
 Image ScanlineRenderer::render(const Camera& camera, int width, int height, const ScalarField& field,
-                               const TransferFunction& tf_in, const ScanlineOptions& options,
+                               const TransferFunction& tf, const ScanlineOptions& options,
                                ScanlineStats* stats) const {
+    try {
+        return render_frame(camera, width, height, field, tf, options, stats);
+    } catch (const std::bad_alloc&) {
+        throw Error("scan-line renderer: out of memory rendering a " + std::to_string(width) + "x" + std::to_string(height) +
+                    " frame of " + with_commas(codes_.size()) + " triangles (lower the frame-bytes limit to be told " +
+                    "before allocating, or free memory)");
+    }
+}
+
+Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height, const ScalarField& field,
+                                     const TransferFunction& tf_in, const ScanlineOptions& options,
+                                     ScanlineStats* stats) const {
     const auto t_start = std::chrono::steady_clock::now();
     if (width < 1 || height < 1 || width > 65534 || height > 65534) {
         throw Error("scan-line renderer: image size " + std::to_string(width) + "x" + std::to_string(height) +
                     " is outside 1..65534");
     }
-    if (field.values.size() != mesh_.point_count()) {
-        throw Error("scan-line renderer: scalar field '" + field.name + "' has " +
-                    std::to_string(field.values.size()) + " values for " + std::to_string(mesh_.point_count()) +
-                    " points");
-    }
-    for (std::size_t i = 0; i < field.values.size(); ++i) {
-        if (!std::isfinite(field.values[i])) {
-            throw Error("scan-line renderer: scalar field '" + field.name + "' value " + std::to_string(i) +
-                        " is not finite");
-        }
-    }
-    const glm::dvec3 fwd = camera.target - camera.eye;
-    if (!(glm::length(fwd) > 0.0) || !(glm::length(glm::cross(fwd, camera.up)) > 0.0) ||
-        !(camera.near_distance > 0.0) || (!camera.orthographic() && !(camera.fov_y_degrees > 0.0 &&
-                                                                         camera.fov_y_degrees < 180.0))) {
-        throw Error("scan-line renderer: degenerate camera (eye = target, up parallel to the view, near <= 0 "
-                    "or fov outside (0, 180))");
-    }
+    check_limit(Limit::ImagePixels, std::uint64_t(width) * std::uint64_t(height),
+                "scan-line renderer: a " + std::to_string(width) + "x" + std::to_string(height) + " image");
+    check_scalar_field(mesh_, field, "scan-line renderer");
+    camera.validate("scan-line renderer: camera");
     if (options.clip_box && options.clip_box->empty()) throw Error("scan-line renderer: empty clip box");
     const TransferFunction tf = tf_in.normalized() ? tf_in.rescaled(scalar_range(field).lo, scalar_range(field).hi)
                                                    : tf_in;
@@ -778,6 +912,19 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
                     " volumes for " + std::to_string(mesh_.blocks.size()) + " grids (one per block)");
     if (options.medium && options.model != OpticalModel::EmissionAbsorption)
         throw Error("scan-line renderer: per-grid media need the emission-absorption model");
+    // The frame's fixed buffers (§4.3's components), checked against the frame-bytes budget
+    // before any is allocated; what is left bounds each worker's fragments per scan line.
+    const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+    const std::uint64_t fixed = 16 * std::uint64_t(mesh_.point_count()) + 7 * std::uint64_t(codes_.size()) +
+                                (128 * std::uint64_t(threads + 1) + 72) * std::uint64_t(height) + 16 * pixels +
+                                4 * std::uint64_t(width + 1) * threads;
+    const std::uint64_t frame_budget = limit_value(resource_limits(), Limit::FrameBytes);
+    if (fixed > frame_budget) {
+        throw Error(over_limit(Limit::FrameBytes, fixed,
+                               "scan-line renderer: a " + std::to_string(width) + "x" + std::to_string(height) +
+                                   " frame of " + with_commas(codes_.size()) + " triangles"));
+    }
+    const std::size_t max_fragments = static_cast<std::size_t>((frame_budget - fixed) / threads / kFragmentBytes);
 
     // The buffers of an earlier frame, or new ones when another render() holds them.
     std::unique_ptr<FrameBuffers> buffers;
@@ -868,7 +1015,7 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         int nt = 0;
         const CellFace* faces = cell_faces(CellType::Hexahedron);
         for (int f = 0; f < 6; ++f) nt += triangulate_face(faces[f], box_ids, &box_tris[nt]);
-        for (int i = 0; i < nt; ++i) geo.add_clipped_triangle(box_tris[i], clip_grid, true);
+        for (int i = 0; i < nt; ++i) geo.add_clipped_triangle(box_tris[i], clip_grid, true, scanline::Facing::Winding);
         if (!all_in_front) cap_triangles += geo.add_cap(&box_tris[0][0], nt, clip_grid);
     }
     if (behind_points > 0) {
@@ -878,6 +1025,7 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
             const Block& blk = mesh_.blocks[b];
             const std::size_t c_end = std::min<std::size_t>(blk.first_cell + blk.cell_count, mesh_.cell_count());
             for (std::size_t c = blk.first_cell; c < c_end; ++c) {
+                if (cell_flags_[c] & kFlatCell) continue;
                 const CellType type = mesh_.cell_types[c];
                 const std::uint32_t* cv = mesh_.cell_vertices(c);
                 const int nv = cell_vertex_count(type);
@@ -957,7 +1105,8 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
             std::size_t b = 0;
             while (cell >= blocks_[b].end) ++b;
             TriangleDecoder decode(mesh_);
-            geo.add_clipped_triangle(decode(code), static_cast<std::uint32_t>(b), code_toggles(code));
+            geo.add_clipped_triangle(decode(code), static_cast<std::uint32_t>(b), code_toggles(code),
+                                     (cell_flags_[cell] & kInvertedCell) ? scanline::Facing::Reversed : scanline::Facing::Winding);
             ++near_clipped;
         }
     }
@@ -1068,6 +1217,16 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     ctx.medium = options.medium;
     ctx.camera = &camera;
     ctx.image = &image;
+    ctx.cell_flags = cell_flags_.data();
+    ctx.max_fragments = max_fragments;
+    ctx.workers = threads;
+    {
+        // The mesh's depth extent in pixel units: rounding of z is relative to it.
+        const double radius = bounds_.empty() ? 0.0 : 0.5 * glm::length(bounds_.size());
+        const double z_far = dm.to_screen(dm.zr + radius);
+        const double z_near = dm.to_screen(std::max(dm.zr - radius, camera.near_distance));
+        ctx.z_tolerance = 1e-6 * (std::abs(z_far) + std::abs(z_near));
+    }
 
     // Scan lines are handed out in chunks of consecutive lines through one atomic counter (no
     // lock). A worker starting a chunk re-reads the triangles still active from lines it did
@@ -1086,16 +1245,21 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
     if (fb.workers.size() < threads) fb.workers.resize(threads);
     std::vector<std::size_t> crossings(threads, 0), lost(threads, 0);
     run_threads(threads, [&](unsigned t) {
-        Worker worker(ctx, fb.workers[t]);
-        int start = next_line.load(std::memory_order_relaxed);
-        while (start < row_end) {
-            const int end = chunk_end(start);
-            if (!next_line.compare_exchange_weak(start, end, std::memory_order_relaxed)) continue;
-            for (int y = start; y < end; ++y) worker.process_line(y);
-            start = next_line.load(std::memory_order_relaxed);
+        try {
+            Worker worker(ctx, fb.workers[t]);
+            int start = next_line.load(std::memory_order_relaxed);
+            while (start < row_end) {
+                const int end = chunk_end(start);
+                if (!next_line.compare_exchange_weak(start, end, std::memory_order_relaxed)) continue;
+                for (int y = start; y < end; ++y) worker.process_line(y);
+                start = next_line.load(std::memory_order_relaxed);
+            }
+            crossings[t] = worker.crossings;
+            lost[t] = worker.lost;
+        } catch (...) {
+            next_line.store(row_end, std::memory_order_relaxed); // the others stop after their chunk
+            throw;
         }
-        crossings[t] = worker.crossings;
-        lost[t] = worker.lost;
     });
     const double t_scan = seconds_since(t_scan_start);
 
@@ -1141,11 +1305,11 @@ ScanlineRenderer::~ScanlineRenderer() = default;
 
 ScanlineRenderer::ScanlineRenderer(const ScanlineRenderer& other)
     : mesh_(other.mesh_), codes_(other.codes_), blocks_(other.blocks_),
-      surface_triangles_(other.surface_triangles_), bounds_(other.bounds_) {}
+      surface_triangles_(other.surface_triangles_), cell_flags_(other.cell_flags_), bounds_(other.bounds_) {}
 
 ScanlineRenderer::ScanlineRenderer(ScanlineRenderer&& other) noexcept
     : mesh_(other.mesh_), codes_(std::move(other.codes_)), blocks_(std::move(other.blocks_)),
-      surface_triangles_(other.surface_triangles_), bounds_(other.bounds_) {
+      surface_triangles_(other.surface_triangles_), cell_flags_(std::move(other.cell_flags_)), bounds_(other.bounds_) {
     std::lock_guard<std::mutex> lock(other.spare_mutex_);
     spare_ = std::move(other.spare_);
 }

@@ -27,6 +27,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
+
 namespace fx::sort_detail {
 namespace {
 
@@ -126,7 +129,7 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
     const auto t0 = clock_type::now();
     const bool ortho = camera.orthographic();
     const glm::dvec3 f = camera.forward();
-    const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up));
+    const glm::dvec3 r = camera.right();
     const glm::dvec3 u = glm::cross(r, f);
     const double near = camera.near_distance;
 
@@ -229,10 +232,23 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
 
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
     std::size_t tested = 0;
+    // A valid mesh has a few overlapping boundary-face pairs per face; cells that overlap one
+    // another (n copies of a cell: n² pairs) would make this quadratic. The sort-pairs budget
+    // stops that with an error instead of a hang.
+    const std::uint64_t per_face = limit_value(resource_limits(), Limit::SortPairs);
+    const std::uint64_t faces = front.size() + back.size();
+    const std::uint64_t max_tested = per_face * faces + (std::uint64_t(1) << 20);
     double ox[12], oy[12];
     // The exact test of a pair whose bounding boxes overlap and depths allow g nearer.
     auto test_pair = [&](const Projection& g, const Projection& h) {
-        ++tested;
+        if (++tested > max_tested) {
+            throw Error("visibility sort (xmpvo): " +
+                        over_limit(Limit::SortPairs, per_face + 1,
+                                   "the " + with_commas(faces) + " boundary faces in view overlap on screen in more than " +
+                                       with_commas(max_tested) + " pairs; each face") +
+                        ". Cells that overlap one another (duplicates: `cellfx info` lists them) have no back-to-front "
+                        "order; fix the mesh, or use --sort centroid");
+        }
         const int count = clip_polygon(g, h, ox, oy);
         if (count < 3) return;
         const double area = polygon_area(ox, oy, count);

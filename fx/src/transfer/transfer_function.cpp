@@ -6,13 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "fx/error.hpp"
+#include "io/input_file.hpp"
 
 namespace fx {
 namespace {
@@ -22,6 +23,13 @@ std::string number(double v) {
     o.precision(17);
     o << v;
     return o.str();
+}
+
+// A number for a message about its size: "1e+300", "2000000".
+std::string short_number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
 }
 
 // A JSON value for an error message, at most ~60 characters. Arrays are shown only when flat
@@ -49,6 +57,13 @@ void validate(const std::vector<TransferPoint>& points, bool normalized, const s
             if (!std::isfinite(v[k])) throw Error(at + names[k] + " is not finite");
         for (int k = 1; k < 5; ++k)
             if (v[k] < 0.0) throw Error(at + names[k] + " is negative");
+        for (int k = 1; k < 4; ++k)
+            if (v[k] > kMaxColor)
+                throw Error(at + names[k] + " = " + short_number(v[k]) + " is over " + short_number(kMaxColor) +
+                            ", the largest colour component cellfx integrates");
+        if (p.sigma > kMaxSigma)
+            throw Error(at + "sigma = " + short_number(p.sigma) + " is over " + short_number(kMaxSigma) +
+                        " per world unit, the largest extinction cellfx integrates (anything above ~50 over a cell is opaque)");
         if (i > 0 && p.s < points[i - 1].s)
             throw Error(at + "s decreases (" + number(p.s) + " after " + number(points[i - 1].s) + ")");
         if (i > 1 && p.s == points[i - 2].s)
@@ -87,6 +102,7 @@ TransferFunction::TransferFunction(std::vector<TransferPoint> points, bool norma
 
 TransferFunction TransferFunction::parse_json(std::string_view text, const std::string& source) {
     const std::string where = source + ": ";
+    io::check_json_encoding(text, source);
     nlohmann::json root;
     try {
         root = nlohmann::json::parse(text.begin(), text.end());
@@ -132,14 +148,9 @@ TransferFunction TransferFunction::parse_json(std::string_view text, const std::
 }
 
 TransferFunction TransferFunction::read_json(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a folder, not a transfer function file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open transfer function file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw Error(path + ": read error");
-    return parse_json(text.str(), path);
+    const std::vector<char> bytes = io::read_input_file(path, Limit::JsonBytes, "transfer function file",
+                                                        [&](std::string_view head) { io::check_json_encoding(head, path); });
+    return parse_json(std::string_view(bytes.data(), bytes.size()), path);
 }
 
 TransferFunction TransferFunction::constant(const glm::dvec3& color, double sigma) {
@@ -155,9 +166,15 @@ TransferFunction TransferFunction::scaled_extinction(double k) const {
 }
 
 TransferFunction TransferFunction::rescaled(double lo, double hi) const {
-    if (!std::isfinite(lo) || !std::isfinite(hi) || lo == hi)
-        throw Error("transfer function: rescaled: need finite lo != hi, got [" + number(lo) + ", " + number(hi) + "]");
+    if (!std::isfinite(lo) || !std::isfinite(hi))
+        throw Error("transfer function: cannot map it onto [" + number(lo) + ", " + number(hi) +
+                    "]: the range of a field must be finite");
     if (points_.empty()) return {};
+    if (lo == hi) {
+        // A constant field: it sees the value at the function's first s, from above.
+        const TransferPoint& p = evaluate(points_, points_.front().s);
+        return TransferFunction({{lo, p.color, p.sigma}}, false);
+    }
     std::vector<TransferPoint> out = points_;
     const double first = points_.front().s, last = points_.back().s;
     if (first == last) {

@@ -40,6 +40,13 @@ struct HeightField {
 
 // True for 2^n + 1 with n ≥ 1.
 bool is_lod_size(int size);
+
+// Throws fx::Error starting with `what` unless a size × size field fits the height-samples
+// budget (fx/resource_limits.hpp) and its grid, spacing·(size − 1) from `origin`, and the
+// heights [lowest, highest] lie within ±fx::kMaxCoordinate (the coordinates cellfx renders).
+// Checked before anything of that size is allocated.
+void check_height_field(int size, double spacing, glm::dvec2 origin, double lowest, double highest,
+                        const std::string& what);
 // The smallest 2^n + 1 ≥ size (n ≥ 1).
 int lod_size_at_least(int size);
 

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 
 namespace terrain {
 
@@ -24,6 +26,19 @@ bool is_lod_size(int size) {
     if (size < 3 || size > kMaxSize) return false;
     const int n = size - 1;
     return (n & (n - 1)) == 0;
+}
+
+void check_height_field(int size, double spacing, glm::dvec2 origin, double lowest, double highest,
+                        const std::string& what) {
+    fx::check_limit(fx::Limit::HeightSamples, std::uint64_t(size) * std::uint64_t(size),
+                    what + " (" + std::to_string(size) + "x" + std::to_string(size) + ")");
+    const double reach = std::max(std::abs(origin.x), std::abs(origin.y)) + spacing * (size - 1);
+    if (!(reach <= fx::kMaxCoordinate))
+        throw fx::Error(what + ": the grid reaches " + number(reach) + " (origin + spacing × " + std::to_string(size - 1) +
+                        "), beyond ±1e18, the coordinates cellfx renders");
+    if (!(std::max(std::abs(lowest), std::abs(highest)) <= fx::kMaxCoordinate))
+        throw fx::Error(what + ": heights reach " + number(std::abs(lowest) > std::abs(highest) ? lowest : highest) +
+                        ", beyond ±1e18, the coordinates cellfx renders (check vertical_scale and vertical_offset)");
 }
 
 int lod_size_at_least(int size) {
@@ -57,6 +72,7 @@ HeightField make_height_field(int size, double spacing, const HeightGenerator& g
         throw fx::Error("height field: spacing " + number(spacing) + " is not a finite positive number");
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y)) throw fx::Error("height field: origin is not finite");
     if (!generator) throw fx::Error("height field: no generator given");
+    check_height_field(size, spacing, origin, 0.0, 0.0, "height field");
     HeightField field;
     field.size = size;
     field.spacing = spacing;

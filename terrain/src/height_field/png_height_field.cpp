@@ -2,20 +2,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <vector>
 
 #include <stb_image.h>
 
 #include "fx/error.hpp"
+#include "io/input_file.hpp"
 #include "terrain/height_field.hpp"
 
 namespace terrain {
 
 namespace {
+
+const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 
 const char* channel_words(int channels) {
     switch (channels) {
@@ -56,31 +56,29 @@ void check_png_chunks(const std::vector<char>& bytes, const std::string& path, s
     }
 }
 
-} // namespace
-
-HeightField read_height_field_png(const std::string& path, const HeightFieldOptions& options) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw fx::Error(path + ": is a folder, not a height map");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw fx::Error(path + ": cannot open the height map");
-    std::vector<char> bytes;
-    try { // libstdc++ throws from the stream buffer on a read error
-        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    } catch (const std::exception& e) {
-        throw fx::Error(path + ": read error (" + e.what() + ")");
-    }
-    if (in.bad()) throw fx::Error(path + ": read error");
-    return parse_height_field_png(bytes, path, options);
-}
-
-HeightField parse_height_field_png(const std::vector<char>& bytes, const std::string& path, const HeightFieldOptions& options) {
+void check_options(const std::string& path, const HeightFieldOptions& options) {
     if (!(options.spacing > 0.0) || !std::isfinite(options.spacing))
         throw fx::Error(path + ": spacing must be a finite positive number");
     if (!std::isfinite(options.vertical_scale) || options.vertical_scale == 0.0)
         throw fx::Error(path + ": vertical scale must be finite and non-zero");
     if (!std::isfinite(options.vertical_offset)) throw fx::Error(path + ": vertical offset must be finite");
+}
 
-    static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+} // namespace
+
+HeightField read_height_field_png(const std::string& path, const HeightFieldOptions& options) {
+    check_options(path, options);
+    // The signature first: a device or pipe of anything else is refused before it is read.
+    const auto check_signature = [&](std::string_view head) {
+        if (head.substr(0, 8) != std::string_view(reinterpret_cast<const char*>(kPng), 8)) throw fx::Error(path + ": not a PNG file");
+    };
+    return parse_height_field_png(fx::io::read_input_file(path, fx::Limit::FileBytes, "height map", check_signature), path,
+                                  options);
+}
+
+HeightField parse_height_field_png(const std::vector<char>& bytes, const std::string& path, const HeightFieldOptions& options) {
+    check_options(path, options);
+
     if (bytes.size() < 8 || !std::equal(kPng, kPng + 8, reinterpret_cast<const unsigned char*>(bytes.data())))
         throw fx::Error(path + ": not a PNG file");
     if (bytes.size() > std::size_t(std::numeric_limits<int>::max())) throw fx::Error(path + ": file too large for a height map");
@@ -111,8 +109,12 @@ HeightField parse_height_field_png(const std::vector<char>& bytes, const std::st
                         "; at most 16385x16385 samples are supported");
 
     // Nothing of the header's size is allocated before the file is known to hold it (a
-    // 69-byte file claiming 16385 x 16385 used to cost 2 GiB here, and stb's own buffers).
+    // 69-byte file claiming 16385 x 16385 used to cost 2 GiB here, and stb's own buffers),
+    // and before it is known to be within the budget and the coordinates cellfx renders.
     check_png_chunks(bytes, path, std::uint64_t(w) * std::uint64_t(h) * (sixteen ? 2 : 1));
+    const double top = sixteen ? 65535.0 : 255.0;
+    check_height_field(size, options.spacing, options.origin, options.vertical_offset,
+                       options.vertical_offset + options.vertical_scale * top, path + ": the height map");
     std::vector<double> grey;
     int rw = 0, rh = 0, rc = 0;
     if (sixteen) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
 
 namespace terrain {
@@ -43,7 +44,8 @@ HeightField make_aurora_depth(int size, double spacing, glm::dvec2 origin, const
 }
 
 AuroraLayer make_aurora_layer(const HeightField& penetration_depth, double ceiling) {
-    if (!std::isfinite(ceiling)) throw fx::Error("aurora: the ceiling height is not finite");
+    if (!(std::abs(ceiling) <= fx::kMaxCoordinate))
+        throw fx::Error("aurora: the ceiling height must be finite and within ±1e18 (the coordinates cellfx renders)");
     AuroraLayer layer{penetration_depth, penetration_depth};
     for (std::size_t k = 0; k < layer.depth.heights.size(); ++k) {
         const float d = layer.depth.heights[k];

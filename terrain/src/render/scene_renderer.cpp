@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 #include "gl/composite_pass.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
@@ -332,6 +333,10 @@ struct SceneRenderer::Impl {
     void update(double dt, const fx::Camera& cam, int w, int h) {
         if (!std::isfinite(dt)) throw fx::Error("scene update: dt is not finite");
         if (w < 1 || h < 1) throw fx::Error("scene update: empty viewport " + std::to_string(w) + "x" + std::to_string(h));
+        cam.validate("scene update: camera");
+        if (fx::exceeds(fx::Limit::ImagePixels, std::uint64_t(w) * std::uint64_t(h)))
+            throw fx::Error(fx::over_limit(fx::Limit::ImagePixels, std::uint64_t(w) * std::uint64_t(h),
+                                           "scene update: a " + std::to_string(w) + "x" + std::to_string(h) + " viewport"));
         const auto start = Clock::now();
         const double cpu_start = thread_cpu_ms();
         time += dt;

@@ -3,15 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <variant>
 
 #include <nlohmann/json.hpp>
 
+#include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
 #include "fx/mesh_io.hpp"
+#include "fx/resource_limits.hpp"
+#include "io/input_file.hpp"
 #include "terrain/scene.hpp"
 
 namespace terrain {
@@ -46,9 +49,7 @@ public:
         }
         const json& v = at(key);
         if (!v.is_number()) throw error(key, "expected a number");
-        const double d = v.get<double>();
-        if (!std::isfinite(d)) throw error(key, "is not finite");
-        return d;
+        return bounded(key, v.get<double>());
     }
     double positive(const std::string& key, std::optional<double> fallback = std::nullopt) {
         const double d = number(key, fallback);
@@ -88,9 +89,8 @@ public:
         if (!v.is_array() || v.size() != std::size_t(N)) throw error(key, "expected an array of " + std::to_string(N) + " numbers");
         glm::vec<N, double> out;
         for (int k = 0; k < N; ++k) {
-            if (!v[k].is_number() || !std::isfinite(v[k].get<double>()))
-                throw error(key, "expected an array of " + std::to_string(N) + " finite numbers");
-            out[k] = v[k].get<double>();
+            if (!v[k].is_number()) throw error(key, "expected an array of " + std::to_string(N) + " finite numbers");
+            out[k] = bounded(key, v[k].get<double>());
         }
         return out;
     }
@@ -112,6 +112,18 @@ public:
     const std::string& source() const { return source_; }
 
 private:
+    // Every number a scene holds is finite and within ±kMaxCoordinate: coordinates, sizes and
+    // rates beyond it only overflow the float arithmetic of the render paths.
+    double bounded(const std::string& key, double d) const {
+        if (!std::isfinite(d)) throw error(key, "is not finite");
+        if (std::abs(d) > fx::kMaxCoordinate) {
+            std::ostringstream text;
+            text << d;
+            throw error(key, "is " + text.str() + ", beyond ±1e18: cellfx renders coordinates and sizes up to 1e18");
+        }
+        return d;
+    }
+
     const json& j_;
     std::string path_;
     const std::string& source_;
@@ -131,10 +143,22 @@ void validate_effect_params(const fx::SearchLightParams& p) { fx::SearchLight ch
 void validate_effect_params(const fx::LaserConeParams& p) { fx::LaserCone check(p); }
 void validate_effect_params(const fx::VolumeParams& p) { fx::Volume check(p); }
 
-std::string resolve(const std::string& base_dir, const std::string& file) {
-    const std::filesystem::path p(file);
-    return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).lexically_normal().string();
-}
+// The files a scene names: resolved against its folder; a transfer function named by many
+// effects is read once.
+struct SceneFiles {
+    std::string base_dir;
+    std::map<std::string, fx::TransferFunction> transfer_functions; // by resolved path
+
+    std::string resolve(const std::string& file) const {
+        const std::filesystem::path p(file);
+        return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).lexically_normal().string();
+    }
+    const fx::TransferFunction& transfer_function(const std::string& path) {
+        const auto found = transfer_functions.find(path);
+        if (found != transfer_functions.end()) return found->second;
+        return transfer_functions.emplace(path, fx::TransferFunction::read_json(path)).first->second;
+    }
+};
 
 NoiseSpec parse_noise(Section s) {
     NoiseSpec n;
@@ -162,26 +186,32 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
 }
 
 // A transfer function given by file name or inline ({"points": [[s, r, g, b, sigma], ...]}).
-fx::TransferFunction load_transfer_function(Section& s, const std::string& base_dir) {
+fx::TransferFunction load_transfer_function(Section& s, SceneFiles& files) {
     if (s.has("transfer_function") && s.at("transfer_function").is_object()) {
         // Errors name the key path as the source: "fx.json: effects[0].transfer_function: points[1]: ...".
         return fx::TransferFunction::parse_json(s.at("transfer_function").dump(), s.source() + ": " + s.child("transfer_function"));
     }
-    const std::string file = resolve(base_dir, s.string("transfer_function"));
+    const std::string file = files.resolve(s.string("transfer_function"));
     try {
-        return fx::TransferFunction::read_json(file);
+        return files.transfer_function(file);
     } catch (const fx::Error& e) {
         throw s.error("transfer_function", e.what());
     }
 }
 
-double parse_extinction_scale(Section& s) {
+// The scale of `tf`'s extinction; the scaled function must still be one cellfx integrates.
+double parse_extinction_scale(Section& s, const fx::TransferFunction& tf) {
     const double k = s.number("extinction_scale", 1.0);
     if (k < 0.0) throw s.error("extinction_scale", "must not be negative");
+    try {
+        tf.scaled_extinction(k);
+    } catch (const fx::Error& e) {
+        throw s.error("extinction_scale", e.what());
+    }
     return k;
 }
 
-HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const std::string& base_dir,
+HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const SceneFiles& files,
                             double spacing, glm::dvec2 origin) {
     HeightFieldOptions options;
     options.spacing = spacing;
@@ -190,7 +220,7 @@ HeightField load_height_map(Section& s, const std::string& key, Section& options
     if (options.vertical_scale == 0.0) throw options_from.error("vertical_scale", "must not be zero");
     options.vertical_offset = options_from.number("vertical_offset", 0.0);
     options.pad = options_from.boolean("pad", false);
-    const std::string file = resolve(base_dir, s.string(key));
+    const std::string file = files.resolve(s.string(key));
     try {
         return read_height_field_png(file, options);
     } catch (const fx::Error& e) {
@@ -198,7 +228,7 @@ HeightField load_height_map(Section& s, const std::string& key, Section& options
     }
 }
 
-HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
+HeightField parse_terrain(Section s, const SceneFiles& files, bool& draw) {
     HeightField ground;
     draw = s.boolean("draw", true);
     if (s.has("height_map") == s.has("procedural"))
@@ -206,7 +236,7 @@ HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
     if (s.has("height_map")) {
         const double spacing = s.positive("spacing", 1.0);
         const glm::dvec2 origin = s.vector<2>("origin", glm::dvec2(0.0));
-        ground = load_height_map(s, "height_map", s, base_dir, spacing, origin);
+        ground = load_height_map(s, "height_map", s, files, spacing, origin);
     } else {
         Section p = s.object("procedural");
         const long size = p.integer("size", 257, 3, 16385);
@@ -215,18 +245,22 @@ HeightField parse_terrain(Section s, const std::string& base_dir, bool& draw) {
         const glm::dvec2 origin = p.vector<2>("origin", glm::dvec2(0.0));
         const NoiseSpec noise = parse_noise(p.object("noise"));
         p.finish();
-        ground = make_height_field(int(size), spacing, make_noise_generator(noise), origin);
+        try {
+            ground = make_height_field(int(size), spacing, make_noise_generator(noise), origin);
+        } catch (const fx::Error& e) {
+            throw p.error("", e.what());
+        }
     }
     s.finish();
     return ground;
 }
 
-FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_dir) {
+FogSpec parse_fog(Section s, const HeightField& ground, SceneFiles& files) {
     FogSpec fog;
     if (s.has("thickness_map") == s.has("valley")) throw s.error("", "give either thickness_map or valley");
     if (s.has("thickness_map")) {
         Section m = s.object("thickness_map");
-        fog.thickness = load_height_map(m, "file", m, base_dir, ground.spacing, ground.origin);
+        fog.thickness = load_height_map(m, "file", m, files, ground.spacing, ground.origin);
         m.finish();
         try {
             require_same_grid(ground, fog.thickness, "the fog map");
@@ -257,8 +291,8 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
         throw s.error("density", "expected \"layer_height\" or \"noise\", got \"" + density + "\"");
     }
     fog.prisms.density_scale = s.positive("density_scale", 1.0);
-    fog.transfer_function = load_transfer_function(s, base_dir);
-    fog.extinction_scale = parse_extinction_scale(s);
+    fog.transfer_function = load_transfer_function(s, files);
+    fog.extinction_scale = parse_extinction_scale(s, fog.transfer_function);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
     fog.albedo = s.number("albedo", fog.albedo);
@@ -268,7 +302,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
     return fog;
 }
 
-AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
+AuroraSpec parse_aurora(Section s, SceneFiles& files) {
     AuroraSpec a;
     a.ceiling = s.number("ceiling");
     const long size = s.integer("size", 129, 3, 16385);
@@ -287,9 +321,13 @@ AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
         c.seed = std::uint32_t(k.integer("seed", c.seed, 0, 0xffffffffL));
         k.finish();
     }
-    a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
-    a.transfer_function = load_transfer_function(s, base_dir);
-    a.extinction_scale = parse_extinction_scale(s);
+    try {
+        a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
+    } catch (const fx::Error& e) {
+        throw s.error("", e.what());
+    }
+    a.transfer_function = load_transfer_function(s, files);
+    a.extinction_scale = parse_extinction_scale(s, a.transfer_function);
     a.path = parse_path(s, "path", fx::RenderPath::Mip);
     a.pixel_error = s.positive("pixel_error", 4.0);
     a.enabled = s.boolean("enabled", true);
@@ -377,7 +415,7 @@ fx::LaserConeParams parse_laser_cone(Section& s) {
     return p;
 }
 
-fx::VolumeParams parse_volume(Section& s, const std::string& base_dir) {
+fx::VolumeParams parse_volume(Section& s, const SceneFiles& files) {
     fx::VolumeParams p;
     const std::string shape = s.string("shape", std::string("box"));
     if (shape == "box") p.shape = fx::VolumeShape::Box;
@@ -392,8 +430,8 @@ fx::VolumeParams parse_volume(Section& s, const std::string& base_dir) {
     }
     if (p.shape == fx::VolumeShape::Sphere) p.radius = s.positive("radius", p.radius);
     if (p.shape == fx::VolumeShape::Mesh) {
-        const std::string file = resolve(base_dir, s.string("mesh"));
-        const std::string q_file = s.has("q_file") ? resolve(base_dir, s.string("q_file")) : std::string();
+        const std::string file = files.resolve(s.string("mesh"));
+        const std::string q_file = s.has("q_file") ? files.resolve(s.string("q_file")) : std::string();
         try {
             p.mesh = std::make_shared<const fx::CellMesh>(fx::read_mesh(file, q_file));
         } catch (const fx::Error& e) {
@@ -441,13 +479,13 @@ LightSpec parse_light(Section l) {
     return light;
 }
 
-EffectSpec parse_effect(Section s, const std::string& base_dir) {
+EffectSpec parse_effect(Section s, SceneFiles& files) {
     EffectSpec e;
     const std::string type = s.string("type");
     if (type == "campfire") e.params = parse_campfire(s);
     else if (type == "search_light") e.params = parse_search_light(s);
     else if (type == "laser_cone") e.params = parse_laser_cone(s);
-    else if (type == "volume") e.params = parse_volume(s, base_dir);
+    else if (type == "volume") e.params = parse_volume(s, files);
     else if (type == "ground_fog" || type == "aurora")
         throw s.error("type", "'" + type + "' is declared by the scene's \"" + (type == "aurora" ? "aurora" : "fog") +
                                   "\" section, not in effects");
@@ -462,8 +500,8 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
         if (type == "volume") throw s.error("light", "a volume sheds no light (campfires, search lights and laser cones do)");
         e.light = parse_light(s.object("light"));
     }
-    e.transfer_function = load_transfer_function(s, base_dir);
-    e.extinction_scale = parse_extinction_scale(s);
+    e.transfer_function = load_transfer_function(s, files);
+    e.extinction_scale = parse_extinction_scale(s, e.transfer_function);
     s.finish();
     // The effect's own checks (cross-parameter rules), named by the entry.
     try {
@@ -475,26 +513,31 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
 }
 
 // `taken`: the names of the scene's own sections ("fog", "aurora") when it declares them.
-std::vector<EffectSpec> parse_effects(Section& root, const std::string& base_dir, const std::vector<std::string>& taken) {
+std::vector<EffectSpec> parse_effects(Section& root, SceneFiles& files, const std::vector<std::string>& taken) {
     const json& list = root.at("effects");
     if (!list.is_array()) throw root.error("effects", "expected an array of effects");
+    fx::check_limit(fx::Limit::Effects, list.size(), root.source() + ": effects");
     std::vector<EffectSpec> effects;
+    std::map<std::string, std::size_t> index_of; // name → entry: a linear search was quadratic
+    std::uint64_t cells = 0;
     for (std::size_t i = 0; i < list.size(); ++i) {
         const std::string where = "effects[" + std::to_string(i) + "]";
-        EffectSpec e = parse_effect(Section(list[i], where, root.source()), base_dir);
+        EffectSpec e = parse_effect(Section(list[i], where, root.source()), files);
         if (std::find(taken.begin(), taken.end(), e.name) != taken.end())
             throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is reserved for the scene's " + e.name +
                             " section");
-        for (std::size_t k = 0; k < effects.size(); ++k)
-            if (effects[k].name == e.name)
-                throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is already the name of effects[" +
-                                std::to_string(k) + "] (give each effect its own \"name\")");
+        const auto [it, fresh] = index_of.emplace(e.name, i);
+        if (!fresh)
+            throw fx::Error(root.source() + ": " + where + ".name: '" + e.name + "' is already the name of effects[" +
+                            std::to_string(it->second) + "] (give each effect its own \"name\")");
+        cells += std::visit([](const auto& params) { return fx::max_cells(params); }, e.params);
+        fx::check_limit(fx::Limit::SceneCells, cells, root.source() + ": effects[0.." + std::to_string(i) + "] together");
         effects.push_back(std::move(e));
     }
     return effects;
 }
 
-CameraPath parse_camera_path(Section s) {
+CameraPath parse_camera_path(Section s, const fx::Camera& base) {
     CameraPath path;
     path.loop = s.boolean("loop", false);
     const json& keys = s.at("keys");
@@ -506,6 +549,10 @@ CameraPath parse_camera_path(Section s) {
         key.eye = k.vector<3>("eye");
         key.target = k.vector<3>("target");
         if (key.eye == key.target) throw k.error("target", "is the eye position");
+        fx::Camera at_key = base; // the scene camera's up, fov, near and far from this key
+        at_key.eye = key.eye;
+        at_key.target = key.target;
+        at_key.validate(s.source() + ": " + s.child("keys[" + std::to_string(i) + "]"));
         if (!path.keys.empty() && !(key.time > path.keys.back().time))
             throw k.error("time", "must be later than the previous key's");
         k.finish();
@@ -531,12 +578,14 @@ fx::Camera parse_camera(Section s) {
     if (!(cam.far_distance > cam.near_distance)) throw s.error("far", "must be beyond near");
     if (cam.eye == cam.target) throw s.error("target", "is the eye position");
     s.finish();
+    cam.validate(s.source() + ": camera");
     return cam;
 }
 
 } // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source, const std::string& base_dir) {
+    fx::io::check_json_encoding(text, source);
     json doc;
     try {
         doc = json::parse(text.begin(), text.end());
@@ -546,11 +595,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         throw fx::Error(source + ": JSON error: " + e.what());
     }
     Section root(doc, "", source);
+    SceneFiles files{base_dir, {}};
     Scene scene;
     scene.source = source;
     scene.description = root.string("description", std::string());
     if (root.has("terrain")) {
-        scene.ground = parse_terrain(root.object("terrain"), base_dir, scene.draw_terrain);
+        scene.ground = parse_terrain(root.object("terrain"), files, scene.draw_terrain);
     } else if (!root.has("effects")) {
         throw root.error("terrain", "is required (a scene without effects needs a terrain)");
     }
@@ -565,22 +615,27 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     }
     if (root.has("fog")) {
         if (!scene.has_terrain()) throw root.error("fog", "needs a terrain (the fog map lies on its grid)");
-        scene.fog = parse_fog(root.object("fog"), scene.ground, base_dir);
+        scene.fog = parse_fog(root.object("fog"), scene.ground, files);
     }
-    if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), base_dir);
+    if (root.has("aurora")) scene.aurora = parse_aurora(root.object("aurora"), files);
     if (root.has("effects")) {
         std::vector<std::string> taken;
         if (scene.fog) taken.push_back("fog");
         if (scene.aurora) taken.push_back("aurora");
-        scene.effects = parse_effects(root, base_dir, taken);
+        scene.effects = parse_effects(root, files, taken);
     }
     scene.camera = parse_camera(root.object("camera"));
-    if (root.has("camera_path")) scene.camera_path = parse_camera_path(root.object("camera_path"));
+    if (root.has("camera_path")) scene.camera_path = parse_camera_path(root.object("camera_path"), scene.camera);
     if (root.has("render")) {
         Section r = root.object("render");
         scene.width = int(r.integer("width", scene.width, 1, 16384));
         scene.height = int(r.integer("height", scene.height, 1, 16384));
         scene.background = r.vector<3>("background", scene.background);
+        for (int k = 0; k < 3; ++k)
+            if (!(scene.background[k] >= 0.0 && scene.background[k] <= 1.0))
+                throw r.error("background", "colour components must be in [0, 1]");
+        fx::check_limit(fx::Limit::ImagePixels, std::uint64_t(scene.width) * std::uint64_t(scene.height),
+                        source + ": render: a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image");
         r.finish();
     }
     if (root.has("surface")) {
@@ -619,11 +674,10 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
 }
 
 Scene load_scene(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw fx::Error(path + ": cannot open the scene file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+    const std::vector<char> text = fx::io::read_input_file(path, fx::Limit::JsonBytes, "scene file", [&](std::string_view head) {
+        fx::io::check_json_encoding(head, path);
+    });
+    return parse_scene(std::string_view(text.data(), text.size()), path, std::filesystem::path(path).parent_path().string());
 }
 
 } // namespace terrain
