@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages cellfx builds and runs with. Idempotent: quiet when all are
 # present. Run as root on Debian 12 (or with sudo available).
-#   scripts/setup.sh fuzz   also installs clang and libFuzzer for scripts/fuzz.sh
+#   scripts/setup.sh fuzz       also installs clang and libFuzzer for scripts/fuzz.sh
+#   scripts/setup.sh paraview   also installs ParaView 5.11 with its headers, MPI and Xvfb for
+#                               the ParaView plugin (scripts/paraview.sh, docs/paraview.md)
 set -euo pipefail
 
 packages=(
@@ -17,7 +19,11 @@ packages=(
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev llvm-14) ;; # libFuzzer, sanitizer runtimes, llvm-symbolizer
-    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz)" >&2; exit 2 ;;
+    # paraview-dev's CMake config needs python3-paraview, the MPI headers, GLEW and FreeType's
+    # headers without declaring them; python3-paraview conflicts with python3-vtk9 (both ship
+    # vtkmodules), so this group is not for a machine that has python3-vtk9.
+    paraview) packages+=(paraview paraview-dev python3-paraview mpi-default-dev openmpi-bin libglew-dev libfreetype-dev) ;;
+    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz, paraview)" >&2; exit 2 ;;
   esac
 done
 

@@ -736,6 +736,10 @@ Image ScanlineRenderer::render(const Camera& camera, int width, int height, cons
         throw Error("scan-line renderer: degenerate camera (eye = target, up parallel to the view, near <= 0 "
                     "or fov outside (0, 180))");
     }
+    if (camera.projection) {
+        throw Error("scan-line renderer: a camera with an explicit projection matrix (Camera::from_matrices) is "
+                    "not supported; describe it by fov or ortho height");
+    }
     if (options.clip_box && options.clip_box->empty()) throw Error("scan-line renderer: empty clip box");
     const TransferFunction tf = tf_in.normalized() ? tf_in.rescaled(scalar_range(field).lo, scalar_range(field).hi)
                                                    : tf_in;
