@@ -32,7 +32,7 @@ function(cellfx_embed_shaders)
     OUTPUT "${out}"
     COMMAND ${CMAKE_COMMAND}
       "-DOUTPUT=${out}" "-DFUNCTION=${ARG_FUNCTION}" "-DBASE_DIR=${ARG_BASE_DIR}"
-      "-DSOURCE_ROOT=${CMAKE_SOURCE_DIR}" "-DFILES=${joined}"
+      "-DSOURCE_ROOT=${PROJECT_SOURCE_DIR}" "-DFILES=${joined}"
       -P "${_cellfx_embed_script}"
     DEPENDS ${abs_files} "${_cellfx_embed_script}"
     COMMENT "Embedding shaders into ${ARG_FUNCTION}.cpp"

@@ -24,7 +24,7 @@ cmake -S "$root" -B "$CELLFX_PARAVIEW_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release
   -DCELLFX_BUILD_PARAVIEW=ON -DCELLFX_BUILD_TESTS=OFF >/dev/null
 # The plugin and what its tests and demo run: the cellfx command (the scan-line reference), the
 # conversion tests and the expat fix; not the samples' windows.
-cmake --build "$CELLFX_PARAVIEW_BUILD" --target CellfxVolume cellfx cellfx_paraview_tests cellfx_expat_fix
+cmake --build "$CELLFX_PARAVIEW_BUILD" --target CellfxVolume cellfx_cli cellfx_paraview_tests cellfx_expat_fix
 
 if [ "${1:-}" = --test ]; then
   ctest --test-dir "$CELLFX_PARAVIEW_BUILD/paraview" -L paraview --output-on-failure

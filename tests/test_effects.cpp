@@ -4,6 +4,8 @@
 // against the scan-line reference.
 #include <catch2/catch.hpp>
 
+#include <set>
+
 #include <cmath>
 #include <memory>
 
@@ -333,7 +335,7 @@ TEST_CASE("LaserCone: dust is sampled at build and then only when it drifts", "[
 // ---------------------------------------------------------------------------------------------
 // Ground fog and aurora as effects
 
-TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD changed", "[effects][terrain]") {
+TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD or the view changed, culled to the view", "[effects][terrain]") {
     const terrain::HeightField ground = terrain_test::hills(65, 10.0);
     const terrain::HeightField fog_map = terrain::make_valley_fog_map(ground, 0.0, 40.0, {}, 120.0);
     auto lod = std::make_shared<terrain::TerrainLod>(ground, fog_map);
@@ -343,16 +345,58 @@ TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD changed", "[effect
     CHECK(fog.update(view_at(0.0, cam)).mesh);
     require_valid(fog.mesh());
     CHECK(fog.counters().mesh_builds == 1);
-    // Same eye, another direction (a camera that turns): the LOD is unchanged, nothing rebuilt.
+    // The same view again: nothing refined, nothing rebuilt.
+    CHECK_FALSE(fog.update(view_at(0.05, cam)).any());
+    CHECK(fog.counters().mesh_builds == 1);
+    // Same eye, another direction (a camera that turns): the LOD is unchanged (not refined),
+    // the prisms are those of the new view volume.
     fx::Camera turned = cam;
     turned.target = {200, 300, 10};
-    CHECK_FALSE(fog.update(view_at(0.1, turned)).any());
-    CHECK(fog.counters().mesh_builds == 1);
+    CHECK(fog.update(view_at(0.1, turned)).mesh);
+    CHECK(fog.lod_stats().triangles == 0); // no refinement
+    CHECK(fog.counters().mesh_builds == 2);
+    CHECK(fog.prism_stats().culled > 0);
+    // Every prism of the full build that meets the view volume is among those built (culling
+    // leaves out only what the camera cannot see); the others were left out.
+    const fx::Frustum frustum(turned, double(view_at(0.1, turned).viewport_width) / view_at(0.1, turned).viewport_height);
+    auto key = [](const fx::CellMesh& m, std::size_t c) {
+        std::vector<double> k;
+        for (int v = 0; v < 6; ++v) {
+            const glm::dvec3& q = m.points[m.cell_vertices(c)[v]];
+            k.insert(k.end(), {q.x, q.y, q.z});
+        }
+        return k;
+    };
+    auto box = [](const fx::CellMesh& m, std::size_t c) {
+        fx::Bounds b{glm::dvec3(1e300), glm::dvec3(-1e300)};
+        for (int v = 0; v < 6; ++v) {
+            const glm::dvec3& q = m.points[m.cell_vertices(c)[v]];
+            b.lo = glm::min(b.lo, q), b.hi = glm::max(b.hi, q);
+        }
+        return b;
+    };
+    std::set<std::vector<double>> built;
+    for (std::size_t c = 0; c < fog.mesh().cell_count(); ++c) built.insert(key(fog.mesh(), c));
+    const fx::CellMesh all = terrain::build_layer_prisms(lod->mesh(), prisms);
+    std::size_t seen = 0, missing = 0;
+    for (std::size_t c = 0; c < all.cell_count(); ++c) {
+        if (!frustum.intersects(box(all, c))) continue;
+        ++seen;
+        missing += built.count(key(all, c)) == 0;
+    }
+    CHECK(seen > 100);
+    CHECK(missing == 0);
+    CHECK(all.cell_count() == fog.mesh().cell_count() + fog.prism_stats().culled);
+    CHECK(fog.mesh().cell_count() < all.cell_count());
+    // Turning a little (within the guard band): the prisms built for the view still cover it.
+    fx::Camera nudged = turned;
+    nudged.target += glm::dvec3(2.0, 0.0, 0.0);
+    CHECK_FALSE(fog.update(view_at(0.15, nudged)).any());
     // The eye moves far: the LOD refines, the prisms follow.
     fx::Camera moved = cam;
     moved.eye = {320, 200, 90};
     CHECK(fog.update(view_at(0.2, moved)).mesh);
-    CHECK(fog.counters().mesh_builds == 2);
+    CHECK(fog.counters().mesh_builds == 3);
     // The range covers every density the prisms carry; the bounds every point.
     const fx::ScalarRange r = fog.scalar_range();
     for (float v : fog.mesh().scalars[0].values) CHECK(v <= r.hi);

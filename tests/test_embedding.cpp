@@ -8,82 +8,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "cellfx/cellfx.hpp"
-#include "gl/state_guard.hpp"
-#include "test_effects_support.hpp"
-#include "test_paths.hpp"
+#include "embedding_support.hpp"
 
 using effects_test::look;
-
-namespace {
-
-constexpr int kW = 96, kH = 72;
-const glm::vec4 kSky(0.10f, 0.15f, 0.22f, 1.0f);
-const glm::vec4 kBox(0.80f, 0.30f, 0.20f, 1.0f);
-// The box's screen rectangle: the left half, a band through the middle of the fire.
-bool in_box(int x, int y) { return x < kW / 2 && y >= kH / 4 && y < 3 * kH / 4; }
-
-// GL window depth of a point at view depth z (GL's default depth range, perspective).
-float window_depth(const fx::Camera& cam, double z) {
-    const double n = cam.near_distance, f = cam.far_distance;
-    return float(f * (z - n) / (z * (f - n)));
-}
-
-// A game's framebuffer: colour + a depth texture, attached. `depth_format` is the game's
-// choice; `compare` sets a shadow-sampler compare mode on it (a game may leave one set).
-struct GameFrame {
-    GLuint framebuffer = 0, color = 0, depth = 0;
-    GameFrame(GLenum depth_format, bool compare) {
-        glCreateFramebuffers(1, &framebuffer);
-        glCreateTextures(GL_TEXTURE_2D, 1, &color);
-        glTextureStorage2D(color, 1, GL_RGBA32F, kW, kH);
-        glCreateTextures(GL_TEXTURE_2D, 1, &depth);
-        glTextureStorage2D(depth, 1, depth_format, kW, kH);
-        if (compare) glTextureParameteri(depth, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-        glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, color, 0);
-        glNamedFramebufferTexture(framebuffer, depth_format == GL_DEPTH24_STENCIL8 ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
-                                  depth, 0);
-        REQUIRE(glCheckNamedFramebufferStatus(framebuffer, GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
-    }
-    ~GameFrame() {
-        glDeleteFramebuffers(1, &framebuffer);
-        glDeleteTextures(1, &color);
-        glDeleteTextures(1, &depth);
-    }
-    // The game's opaque pass: sky everywhere (depth 1), the box's front face at view depth z.
-    void draw(const fx::Camera& cam, bool box, double z) const {
-        fx::gl::StateGuard guard;
-        fx::gl::StateGuard::set_render_defaults();
-        const GLfloat sky[4] = {kSky.r, kSky.g, kSky.b, kSky.a}, red[4] = {kBox.r, kBox.g, kBox.b, kBox.a};
-        const GLfloat far = 1.0f, near = window_depth(cam, z);
-        glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, sky);
-        glClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, far, 0);
-        if (!box) return;
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(0, kH / 4, kW / 2, kH / 2);
-        glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, red);
-        glClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, near, 0);
-    }
-    fx::Image read() const {
-        fx::gl::StateGuard guard;
-        fx::gl::StateGuard::set_render_defaults();
-        fx::Image image(kW, kH);
-        glGetTextureImage(color, 0, GL_RGBA, GL_FLOAT, GLsizei(image.pixels.size() * sizeof(glm::vec4)), image.pixels.data());
-        return image;
-    }
-};
-
-terrain::Scene fire_scene(bool with_terrain) {
-    const std::string terrain = R"("terrain": {"procedural": {"size": 33, "spacing": 0.5, "origin": [-8, -8],
-                                                  "noise": {"amplitude": 0.2, "frequency": 0.2, "seed": 5}}},)";
-    return terrain::parse_scene(R"({)" + (with_terrain ? terrain : std::string()) + R"(
-        "effects": [{"type": "campfire", "name": "fire", "position": [0, 0, 0],
-                     "transfer_function": "../transfer_functions/fire.json", "extinction_scale": 0.15}],
-        "camera": {"eye": [1.6, -2.4, 1.2], "target": [0, 0, 0.6], "fov": 45, "near": 0.05, "far": 100}})",
-                                "embedding.json", fx_test::source_path("content/scenes"));
-}
-
-} // namespace
+using namespace embedding_test;
 
 TEST_CASE("camera_from_view inverts Camera::view_matrix", "[embedding]") {
     const fx::Camera cam = look({3, -4, 2}, {0.5, 1, 0.3}, 50.0);
@@ -146,33 +74,11 @@ TEST_CASE("An opaque box of the game's hides the fire behind it, and the fire sh
         fx::write_png(frame, fx_test::output_path("embedding_box.png"));
 
         // The reference: the same fire mesh, scan-line, emission, over the game's frame.
-        const fx::Effect& fire = *fx.effect<fx::Campfire>("fire");
-        const fx::CellMesh world = effects_test::world_mesh(fire);
-        fx::ScanlineOptions so;
-        so.model = fx::OpticalModel::Emission;
-        const fx::TransferFunction tf = scene.effects[0].transfer_function.rescaled(0.0, 1.0);
-        const fx::Image light = fx::ScanlineRenderer(world).render(cam, kW, kH, world.scalars[0], tf, so);
-        fx::Image expected(kW, kH);
         std::size_t hidden = 0, beside = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-                const glm::vec3 fire_light(light.at(x, y));
-                const bool lit = fire_light.r > 0.02f;
-                if (in_box(x, y)) {
-                    expected.at(x, y) = kBox; // the box is in front of all of the fire
-                    hidden += lit;
-                } else {
-                    expected.at(x, y) = glm::vec4(glm::vec3(kSky) + fire_light, 1.0f);
-                    beside += lit;
-                }
-            }
+        const fx::Image expected = expected_frame(fx, cam, &hidden, &beside);
         CHECK(hidden > 100); // the box really covers part of the fire ...
         CHECK(beside > 100); // ... and leaves part of it in view
-        float box_error = 0.0f;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x)
-                if (in_box(x, y)) box_error = std::max(box_error, glm::length(frame.at(x, y) - kBox));
-        CHECK(box_error == 0.0f); // not a trace of fire on the box
+        CHECK(box_error(frame) == 0.0f); // not a trace of fire on the box
         effects_test::check_frame("embedding_box", frame, expected, fx::RenderPath::PcpExact, 20);
     }
 }

@@ -121,7 +121,7 @@ void require_not_empty(const fx::Image& frame, const glm::vec3& background) {
 fx::Image scene_reference(const std::string& scene_name, bool drone) {
     fx_test::gl_context();
     terrain::SceneRenderer renderer(terrain::load_scene(fx_test::source_path("content/scenes/" + scene_name + ".json")));
-    if (drone) dynamic_cast<fx::SearchLight&>(renderer.effect("patrol")).set_parent_transform(cellfx_samples::drone_parent_transform(0.0));
+    if (drone) renderer.effect("patrol").set_parent_transform(cellfx_samples::drone_parent_transform(0.0));
     renderer.set_time(0.0);
     const terrain::Scene& s = renderer.scene();
     const fx::Camera camera = s.camera_path ? s.camera_path->at(0.0, s.camera) : s.camera;

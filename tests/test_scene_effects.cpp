@@ -253,7 +253,7 @@ TEST_CASE("update simulates only the effects the scene calls for", "[gl][scene][
     CHECK_THROWS_WITH(renderer.set_enabled("nope", true), Catch::Contains("no effect named 'nope'"));
 }
 
-TEST_CASE("The ground fog is not rebuilt for a camera that only turns, nor refined when not needed", "[gl][scene][effects]") {
+TEST_CASE("The ground fog is not refined for a camera that only turns, nor rebuilt for one that stands still", "[gl][scene][effects]") {
     fx_test::gl_context();
     const std::string terrain_fog = R"(
       "terrain": {"procedural": {"size": 65, "spacing": 10, "noise": {"amplitude": 40, "frequency": 0.004, "seed": 2}}, "draw": false},
@@ -267,11 +267,16 @@ TEST_CASE("The ground fog is not rebuilt for a camera that only turns, nor refin
     CHECK(renderer.stats().find("fog")->status == terrain::EffectStatus::Simulated);
     CHECK(renderer.stats().terrain_lod.triangles > 0);
     const std::uint64_t builds = renderer.effect("fog").counters().mesh_builds;
+    renderer.update(0.1, scene.camera, w, h);
+    CHECK(renderer.stats().find("fog")->status == terrain::EffectStatus::Unchanged);
+    CHECK(renderer.effect("fog").counters().mesh_builds == builds);
+    // Turning: the prisms of the new view volume, from the LOD as it was (no refinement).
     fx::Camera turned = scene.camera;
     turned.target = {250, 300, 20};
     renderer.update(0.1, turned, w, h);
-    CHECK(renderer.stats().find("fog")->status == terrain::EffectStatus::Unchanged);
-    CHECK(renderer.effect("fog").counters().mesh_builds == builds);
+    CHECK(renderer.stats().find("fog")->status == terrain::EffectStatus::Simulated);
+    CHECK(renderer.stats().terrain_lod.triangles == 0);
+    CHECK(renderer.stats().lod_ms == 0.0);
     // Looking away from the terrain (which cellfx does not draw here): no LOD work at all.
     fx::Camera away = scene.camera;
     away.target = {320, -2000, 200};
@@ -296,7 +301,7 @@ TEST_CASE("What the scene draws after scalar-only and pose-only updates matches 
         REQUIRE(s.find("fire")->status == terrain::EffectStatus::Simulated);
         REQUIRE(renderer.effect("fire").counters().mesh_builds == 1); // the second frame uploaded scalars only
         const fx::CellMesh world = effects_test::world_mesh(renderer.effect("fire"));
-        fx::TransferFunction tf = scene.effects[0].transfer_function.rescaled(0.0, 1.0);
+        fx::TransferFunction tf = terrain::drawn_transfer_function(scene.effects[0].transfer_function, scene.effects[0].extinction_scale, {0.0f, 1.0f});
         fx::ScanlineOptions so;
         so.model = fx::OpticalModel::Emission;
         fx::Image expected = fx::ScanlineRenderer(world).render(cam, w, h, world.scalars[0], tf, so);
@@ -318,7 +323,7 @@ TEST_CASE("What the scene draws after scalar-only and pose-only updates matches 
         const fx::Image frame = draw_over_black(renderer, w, h, &s);
         REQUIRE(s.find("beam")->status == terrain::EffectStatus::Moved);
         const fx::CellMesh world = effects_test::world_mesh(renderer.effect("beam"));
-        const fx::TransferFunction tf = scene.effects[0].transfer_function.rescaled(0.0, 1.0);
+        const fx::TransferFunction tf = terrain::drawn_transfer_function(scene.effects[0].transfer_function, scene.effects[0].extinction_scale, {0.0f, 1.0f});
         fx::ScanlineOptions so;
         so.model = fx::OpticalModel::Emission;
         fx::Image expected = fx::ScanlineRenderer(world).render(cam, w, h, world.scalars[0], tf, so);

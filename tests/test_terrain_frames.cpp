@@ -390,7 +390,8 @@ TEST_CASE("MIP over a real valley has no extrapolated spikes", "[gl][terrain][fr
     terrain::ContinuousLod lod(scene.ground, scene.fog->thickness, scene.lod);
     lod.update(terrain::LodView::from_camera(scene.camera, 384, scene.pixel_error));
     const fx::CellMesh prisms = terrain::build_layer_prisms(lod.mesh(), scene.fog->prisms);
-    const fx::TransferFunction tf = scene.fog->transfer_function.rescaled(0.0, scene.fog->thickness.max_height());
+    const fx::TransferFunction tf = terrain::drawn_transfer_function(
+        scene.fog->transfer_function, scene.fog->extinction_scale, {0.0f, float(scene.fog->thickness.max_height())});
     fx::CellRenderer renderer(prisms, "density", tf);
     const fx::Image gpu = renderer.render_to_image(scene.camera, 512, 384, fx::RenderPath::Mip);
     fx::ScanlineOptions so;

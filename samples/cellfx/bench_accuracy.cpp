@@ -32,6 +32,7 @@
 // axes; drawn by gnuplot from accuracy_plot.dat and accuracy.gp, both kept) and each scene's
 // reference image (<scene>_reference_<model>.png).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -47,7 +48,6 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
 
 #include "bench_support.hpp"
 #include "commands.hpp"
@@ -60,7 +60,6 @@
 #include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/synthetic_meshes.hpp"
-#include "fx/tetrahedralize.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
@@ -189,31 +188,15 @@ BenchScene blunt_fin_scene(const std::string& dir, bool quick) {
     return s;
 }
 
-// A finite-element-like mesh of ~`cells` tetrahedra: a curved duct (a 240° sector of a thick
-// cylindrical shell whose top undulates) as a curvilinear hexahedral grid, cut into consistent
-// tetrahedra (5 or 6 per hexahedron), with a smooth field. Non-convex: the view looks into the
-// sector's gap, so rays cross one arm, leave the mesh and enter the far side.
+// A finite-element-like mesh of ~`cells` tetrahedra: fx::make_curved_duct's duct cut into
+// consistent tetrahedra. Non-convex: the view looks into the sector's gap, so rays cross one
+// arm, leave the mesh and enter the far side.
 BenchScene fem_scene(int cells) {
     BenchScene s;
     s.id = "fem";
-    // Node spacing h from the target count: arc (at mid radius) 5.65, radial 0.7, height 1.0.
-    const double h = std::cbrt(5.65 * 0.7 * 1.0 / (double(cells) / 5.5));
-    const std::uint32_t na = std::max(2u, std::uint32_t(std::lround(5.65 / h))),
-                        nr = std::max(1u, std::uint32_t(std::lround(0.7 / h))),
-                        nz = std::max(1u, std::uint32_t(std::lround(1.0 / h)));
-    fx::CellMesh hexes;
-    fx::append_curvilinear_block(hexes, "duct", {na + 1, nr + 1, nz + 1}, [](double u, double v, double w) {
-        // Angle falling with u, radius growing with v, height with w: right-handed, so the
-        // cells are positively oriented.
-        const double a = glm::radians(210.0 - 240.0 * u), r = 1.0 + 0.7 * v;
-        return glm::dvec3(r * std::cos(a), r * std::sin(a), w * (1.0 + 0.15 * std::sin(2.0 * a)));
-    });
-    fx::set_scalar_field(hexes, "temperature", [](const glm::dvec3& p) {
-        const glm::dvec3 hot(-0.9, 1.0, 0.5);
-        return 0.35 + 0.25 * std::sin(2.5 * p.x + 1.0) * std::cos(2.0 * p.y) + 0.3 * p.z +
-               0.45 * std::exp(-glm::dot(p - hot, p - hot) / 0.15);
-    });
-    s.mesh = fx::tetrahedralize(hexes);
+    s.mesh = fx::make_curved_duct(std::size_t(cells), /*tetrahedra=*/true);
+    const std::array<std::uint32_t, 3> nodes = s.mesh.blocks.front().dims;
+    const std::uint32_t na = nodes[0] - 1, nr = nodes[1] - 1, nz = nodes[2] - 1;
     char text[200];
     std::snprintf(text, sizeof text, "FEM duct, %zu tetrahedra", s.mesh.cell_count());
     s.name = text;
@@ -271,9 +254,11 @@ BenchScene fog_scene(bool inside, bool quick) {
     if (fog.prisms.density != terrain::LayerDensity::LayerHeight)
         throw fx::Error("bench accuracy: fog_valley.json's density is expected to be layer_height");
     const double hi = fog.prisms.density_scale * fog.thickness.max_height();
-    auto fixed = [&](const fx::TransferFunction& tf) { return tf.normalized() ? tf.rescaled(0.0, hi) : tf; };
-    s.tf[model_index(fx::OpticalModel::EmissionAbsorption)] = fixed(fog.transfer_function);
-    s.tf[model_index(fx::OpticalModel::Maximum)] = fixed(mip_scene.fog->transfer_function);
+    const fx::ScalarRange range{0.0f, float(hi)};
+    s.tf[model_index(fx::OpticalModel::EmissionAbsorption)] =
+        terrain::drawn_transfer_function(fog.transfer_function, fog.extinction_scale, range);
+    s.tf[model_index(fx::OpticalModel::Maximum)] =
+        terrain::drawn_transfer_function(mip_scene.fog->transfer_function, mip_scene.fog->extinction_scale, range);
     s.background = scene.background;
     s.name = inside ? "fog valley, inside" : "fog valley, from above";
     char note[200];
@@ -309,10 +294,8 @@ BenchScene effect_scene(const std::string& id, const std::string& name, const st
     if (s.mesh.cell_count() == 0) throw fx::Error("bench accuracy: " + path + ": " + spec.name + " built no cells");
     s.field = effect->scalar_name();
     s.camera = fx::camera_in_frame(world_camera, effect->transform());
-    const fx::ScalarRange range = effect->scalar_range();
-    const double lo = range.lo, hi = std::max(double(range.hi), lo + 1e-6 * std::max(1.0, std::abs(lo)));
     const fx::TransferFunction tf =
-        spec.transfer_function.normalized() ? spec.transfer_function.rescaled(lo, hi) : spec.transfer_function;
+        terrain::drawn_transfer_function(spec.transfer_function, spec.extinction_scale, effect->scalar_range());
     for (int m = 0; m < 3; ++m) s.tf[m] = tf;
     // Scaled as on the other scenes: classic pcp's 8-bit target must not saturate, and the
     // brightest sample of the fire (2.4) or of a beam (0.08) is no picture for maximum.

@@ -24,9 +24,16 @@
 // to glFinish: median ms per frame, the update (simulation) and cellfx render (CPU) parts. The
 // last frame must differ from the background (the sample tests compare the pictures).
 //
+// Last, the CPU a game's frame spends in cellfx: each scene through cellfx::Module as a game calls
+// it (update, render over a game frame with a depth texture), its own paths, the camera moving
+// (its camera path, or the eye moving sideways by 1% of its distance per frame, so the terrain
+// LODs refine every frame): the calling thread's CPU time of update (cellfx alone) and render
+// (cellfx and the GL driver's work on that thread), with what update spends on the LODs, the
+// prisms and the other effects, and the state save/restore of a frame timed alone.
+//
 // Options: --scenes a,b (all), --frames N (8, after 2 warm-up frames), --size WxH (the scenes'),
 //          --paths a,b (all), --skip-verify, --samples a,b (all five), --no-samples,
-//          --only-samples (skip the scene rows).
+//          --only-samples (skip the scene and CPU rows), --only-cpu (the CPU rows alone).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,13 +42,19 @@
 #include <string>
 #include <vector>
 
+#include <ctime>
+
+#include <epoxy/gl.h>
+
 #include "bench_support.hpp"
+#include "cellfx/cellfx.hpp"
 #include "commands.hpp"
 #include "fx/campfire.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/scanline_renderer.hpp"
+#include "gl/state_guard.hpp"
 #include "options.hpp"
 #include "sample.hpp"
 #include "terrain/scene.hpp"
@@ -89,13 +102,11 @@ fx::Image reference(terrain::SceneRenderer& renderer, const fx::Camera& cam, int
         for (glm::dvec3& p : world.points) p = glm::dvec3(m * glm::dvec4(p, 1.0));
         fx::TransferFunction tf;
         bool absorb = false;
-        if (name == "fog") tf = scene.fog->transfer_function, absorb = scene.fog->absorb;
-        else if (name == "aurora") tf = scene.aurora->transfer_function;
+        if (name == "fog") tf = terrain::drawn_transfer_function(scene.fog->transfer_function, scene.fog->extinction_scale, e.scalar_range()), absorb = scene.fog->absorb;
+        else if (name == "aurora") tf = terrain::drawn_transfer_function(scene.aurora->transfer_function, scene.aurora->extinction_scale, e.scalar_range());
         else
             for (const terrain::EffectSpec& s : scene.effects)
-                if (s.name == name) tf = s.transfer_function, absorb = s.absorb;
-        const fx::ScalarRange r = e.scalar_range();
-        if (tf.normalized()) tf = tf.rescaled(r.lo, std::max(double(r.hi), r.lo + 1e-6 * std::max(1.0, std::abs(double(r.lo)))));
+                if (s.name == name) tf = terrain::drawn_transfer_function(s.transfer_function, s.extinction_scale, e.scalar_range()), absorb = s.absorb;
         fx::ScanlineOptions so;
         so.model = optical_model(path, absorb);
         const fx::Image layer = fx::ScanlineRenderer(world).render(cam, w, h, *world.find_scalar(e.scalar_name()), tf, so);
@@ -133,14 +144,15 @@ Error compare(const fx::Image& a, const fx::Image& ref, bool clamp_to_8bit) {
 struct Row {
     std::string scene, path;
     std::size_t cells = 0, noise = 0;
-    double ms = 0, gpu = 0, update = 0, upload = 0, surface = 0, effects = 0, composite = 0;
+    double ms = 0, cpu = 0, gpu = 0, update = 0, upload = 0, surface = 0, effects = 0, composite = 0;
     Error error;
     bool verified = false;
 };
 
 void print_row(const Row& r) {
-    std::printf("  %-12s %-17s %8zu %8zu %9.2f %8.1f %9.2f %8.2f %8.2f %8.2f %9.2f %9.2f", r.scene.c_str(), r.path.c_str(),
-                r.cells, r.noise, r.ms, 1000.0 / r.ms, r.gpu, r.update, r.upload, r.surface, r.effects, r.composite);
+    std::printf("  %-12s %-17s %8zu %8zu %9.2f %8.1f %8.2f %9.2f %8.2f %8.2f %8.2f %9.2f %9.2f", r.scene.c_str(),
+                r.path.c_str(), r.cells, r.noise, r.ms, 1000.0 / r.ms, r.cpu, r.gpu, r.update, r.upload, r.surface, r.effects,
+                r.composite);
     if (r.verified)
         std::printf(" %8.3f %8.2f\n", 100.0 * r.error.mean / r.error.peak, 100.0 * r.error.max / r.error.peak);
     else
@@ -153,7 +165,8 @@ void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& 
     if (names.empty())
         for (const cellfx_samples::SampleInfo& s : cellfx_samples::sample_catalog()) names.push_back(s.usage.name);
     std::printf("\n  samples: each sample's frame loop (the window's code, offscreen RGBA8 + depth, no stats text), to glFinish\n");
-    std::printf("  %-12s %-17s %9s %10s %8s %10s %10s\n", "sample", "path", "size", "ms/frame", "fps", "update ms", "cellfx ms");
+    std::printf("  %-12s %-17s %9s %10s %8s %10s %10s %10s %10s %10s\n", "sample", "path", "size", "ms/frame", "fps", "update ms",
+                "cellfx ms", "cpu ms", "cpu update", "cpu render");
     for (const std::string& name : names) {
         const cellfx_samples::SampleInfo& info = cellfx_samples::find_sample(name);
         for (fx::RenderPath path : paths) {
@@ -171,20 +184,113 @@ void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& 
                 throw fx::Error("bench effects: sample " + name + " [" + run.path + "]: the frame shows nothing but the background");
             const double ms = timed(run.frame_ms);
             const std::string size = std::to_string(run.last_frame.width) + "x" + std::to_string(run.last_frame.height);
-            std::printf("  %-12s %-17s %9s %10.2f %8.1f %10.2f %10.2f\n", name.c_str(), run.path.c_str(), size.c_str(), ms,
-                        1000.0 / ms, timed(run.update_ms), timed(run.render_ms));
+            std::vector<double> cpu(run.update_cpu_ms.size());
+            for (std::size_t i = 0; i < cpu.size(); ++i) cpu[i] = run.update_cpu_ms[i] + run.render_cpu_ms[i];
+            std::printf("  %-12s %-17s %9s %10.2f %8.1f %10.2f %10.2f %10.3f %10.3f %10.3f\n", name.c_str(), run.path.c_str(),
+                        size.c_str(), ms, 1000.0 / ms, timed(run.update_ms), timed(run.render_ms), timed(cpu),
+                        timed(run.update_cpu_ms), timed(run.render_cpu_ms));
             std::fflush(stdout);
         }
     }
     std::printf("  ms/frame: wall time of one frame of the loop (update, clear, props, depth copy, cellfx) to glFinish;\n"
-                "  update: the simulation part; cellfx: the CPU time of cellfx's render call (GPU work is asynchronous).\n");
+                "  update: the simulation part; cellfx: the wall time of cellfx's render call (GPU work is asynchronous);\n"
+                "  cpu: CPU time of cellfx's update and render calls on the game's thread (the thread CPU clock: not the\n"
+                "  time spent waiting), and its two parts: update (cellfx alone, no GL) and render (cellfx and the GL\n"
+                "  driver's work on that thread; on llvmpipe that includes the vertex stage and binning of every draw).\n");
+}
+
+double thread_cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+// Frame f of the CPU rows: 1/30 s apart along the scene's camera path, or the eye moving
+// sideways by 1% of its distance to the target per frame (the terrain LODs refine every frame:
+// the fog valley flight).
+fx::Camera moving_camera(const terrain::Scene& scene, int frame) {
+    if (scene.camera_path) return scene.camera_path->at(1.0 + frame / 30.0, scene.camera);
+    fx::Camera cam = scene.camera;
+    const glm::dvec3 side = glm::normalize(glm::cross(cam.forward(), cam.up)) * (0.01 * glm::length(cam.target - cam.eye));
+    cam.eye += side * double(frame);
+    cam.target += side * double(frame);
+    return cam;
+}
+
+// cellfx's CPU time per frame in a game (see the header comment): each shipped scene through
+// cellfx::Module as a game calls it, at its render size, its own render paths, the camera moving.
+void bench_cpu(const std::vector<std::string>& scenes, int frames, int warmup, const ParsedArgs& parsed) {
+    std::printf("\n  CPU per frame in a game: cellfx::Module update + render over a game's RGBA8 + DEPTH24 frame, the\n"
+                "  scenes' own paths, the camera moving; thread CPU ms (waiting excluded), medians of %d frames\n", frames);
+    std::printf("  %-12s %9s %10s %7s %7s %7s %10s %8s %9s %10s %9s\n", "scene", "size", "update cpu", "lod", "prisms",
+                "effects", "render cpu", "uploads", "cpu total", "prisms", "wall ms");
+    for (const std::string& name : scenes) {
+        terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + name + ".json");
+        if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
+        const int w = scene.width, h = scene.height;
+        cellfx::Module fx;
+        fx.init(cellfx::Config::from_scene(scene, w, h));
+        GLuint framebuffer = 0, color = 0, depth = 0;
+        glCreateFramebuffers(1, &framebuffer);
+        glCreateTextures(GL_TEXTURE_2D, 1, &color);
+        glTextureStorage2D(color, 1, GL_RGBA8, w, h);
+        glCreateTextures(GL_TEXTURE_2D, 1, &depth);
+        glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT24, w, h);
+        glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, color, 0);
+        glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth, 0);
+        std::vector<double> update, lod, prisms, effects, render, uploads, total, wall;
+        std::size_t prism_count = 0;
+        for (int f = 0; f < warmup + frames; ++f) {
+            const GLfloat sky[4] = {0.5f, 0.6f, 0.7f, 1.0f};
+            glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, sky);
+            glClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+            const auto t0 = Clock::now();
+            const double c0 = thread_cpu_ms();
+            fx.update(1.0 / 30.0, moving_camera(scene, f));
+            const double c1 = thread_cpu_ms();
+            fx.render({framebuffer, {0, 0, w, h}, depth});
+            const double c2 = thread_cpu_ms();
+            glFinish();
+            if (f < warmup) continue;
+            const terrain::FrameStats& s = fx.stats();
+            double simulated = 0.0;
+            for (const terrain::EffectFrameStats& e : s.effects)
+                if (e.name != "fog" && e.name != "aurora") simulated += e.simulate_ms;
+            update.push_back(c1 - c0), lod.push_back(s.lod_ms), prisms.push_back(s.mesh_ms), effects.push_back(simulated);
+            render.push_back(c2 - c1), uploads.push_back(s.upload_ms), total.push_back(c2 - c0), wall.push_back(ms_since(t0));
+            prism_count = s.fog_prisms.prisms + s.aurora_prisms.prisms;
+        }
+        glDeleteFramebuffers(1, &framebuffer);
+        glDeleteTextures(1, &color);
+        glDeleteTextures(1, &depth);
+        const std::string size = std::to_string(w) + "x" + std::to_string(h);
+        std::printf("  %-12s %9s %10.3f %7.3f %7.3f %7.3f %10.3f %8.3f %9.3f %10zu %9.1f\n", name.c_str(), size.c_str(),
+                    median(update), median(lod), median(prisms), median(effects), median(render), median(uploads),
+                    median(total), prism_count, median(wall));
+        std::fflush(stdout);
+    }
+    // The one state save and restore a frame makes (fx::gl::StateGuard), timed alone.
+    std::vector<double> guard;
+    for (int k = 0; k < 9; ++k) {
+        const double c0 = thread_cpu_ms();
+        for (int i = 0; i < 100; ++i) {
+            fx::gl::StateGuard g;
+            fx::gl::StateGuard::set_render_defaults();
+        }
+        guard.push_back((thread_cpu_ms() - c0) / 100.0);
+    }
+    std::printf("  update cpu: cellfx alone (no GL): lod = LOD refinement, prisms = fog/aurora prisms (culled to the view),\n"
+                "  effects = the other effects' simulation (wall ms); render cpu: cellfx and the GL driver on the game's\n"
+                "  thread (llvmpipe: the vertex stage and binning of every draw too), of which uploads = set_mesh /\n"
+                "  set_scalars (wall ms); prisms: culled fog + aurora prisms drawn. The frame's GL state save + restore\n"
+                "  (StateGuard with set_render_defaults): %.3f ms.\n", median(guard));
 }
 
 } // namespace
 
 int bench_effects(const std::vector<std::string>& args) {
-    const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples"});
-    require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples"});
+    const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples", "only-cpu"});
+    require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
     const int frames = parse_int(parsed.get("frames", "8"), "--frames");
     if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
@@ -205,16 +311,22 @@ int bench_effects(const std::vector<std::string>& args) {
     constexpr int kWarmup = 2;
 
     const fx::HeadlessContext context;
+    if (parsed.has("only-cpu")) {
+        std::printf("effects: cellfx's CPU per frame in a game\n  gl: %s\n", context.description().c_str());
+        bench_cpu(scenes, frames, kWarmup, parsed);
+        return 0;
+    }
     std::printf("effects: shipped scenes x render paths, through SceneRenderer (update + render, GPU-timed per stage)\n");
     std::printf("  gl: %s\n", context.description().c_str());
     std::printf("  %d warm-up + %d timed frames, %.0f ms apart on the scene clock; medians. Paper (2003 hardware): search\n"
                 "  light 115.8 fps, campfire 51.3 fps (PCP, Table 4, window size not given); ground fog ~25 Hz PCP,\n"
                 "  > 50 Hz MIP at 512x384 (§5).\n",
                 kWarmup, frames, 1000.0 * kDt);
-    std::printf("\n  %-12s %-17s %8s %8s %9s %8s %9s %8s %8s %8s %9s %9s %8s %8s\n", "scene", "path", "cells", "noise",
-                "ms/frame", "fps", "gpu ms", "update", "upload", "surface", "effects", "composite", "mean %", "max %");
+    std::printf("\n  %-12s %-17s %8s %8s %9s %8s %8s %9s %8s %8s %8s %9s %9s %8s %8s\n", "scene", "path", "cells", "noise",
+                "ms/frame", "fps", "cpu ms", "gpu ms", "update", "upload", "surface", "effects", "composite", "mean %", "max %");
     std::vector<Row> rows;
     std::map<std::string, std::vector<terrain::EffectFrameStats>> last_effects;
+    const std::vector<std::string> cpu_scenes = scenes;
     if (parsed.has("only-samples")) scenes.clear();
     for (const std::string& name : scenes) {
         terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + name + ".json");
@@ -230,17 +342,18 @@ int bench_effects(const std::vector<std::string>& args) {
             r.set_timing(true);
             Row row;
             row.scene = name, row.path = "(effects off)";
-            std::vector<double> ms, gpu, update, surface;
+            std::vector<double> ms, cpu, gpu, update, surface;
             for (int f = 0; f < kWarmup + frames; ++f) {
                 r.set_time(f * kDt);
                 terrain::FrameStats s;
                 bare = r.render_to_image(camera_at(scene, f, kDt), w, h, &s);
                 if (f < kWarmup) continue;
-                ms.push_back(s.frame_ms), gpu.push_back(std::max(s.gpu_ms, 0.0)), update.push_back(s.update_ms),
-                    surface.push_back(std::max(s.surface_gpu_ms, 0.0));
+                ms.push_back(s.frame_ms), cpu.push_back(s.update_cpu_ms + s.render_cpu_ms), gpu.push_back(std::max(s.gpu_ms, 0.0)),
+                    update.push_back(s.update_ms), surface.push_back(std::max(s.surface_gpu_ms, 0.0));
                 row.cells = s.cells_drawn, row.noise = s.noise_samples;
             }
-            row.ms = median(ms), row.gpu = median(gpu), row.update = median(update), row.surface = median(surface);
+            row.ms = median(ms), row.cpu = median(cpu), row.gpu = median(gpu), row.update = median(update),
+            row.surface = median(surface);
             print_row(row);
         }
         std::map<int, fx::Image> references; // by optical model
@@ -248,7 +361,7 @@ int bench_effects(const std::vector<std::string>& args) {
             terrain::SceneRenderer renderer(scene);
             for (const std::string& e : renderer.effect_names()) renderer.set_path(e, path);
             renderer.set_timing(true);
-            std::vector<double> ms, gpu, update, upload, surface, effects, composite;
+            std::vector<double> ms, cpu, gpu, update, upload, surface, effects, composite;
             Row row;
             row.scene = name, row.path = fx::render_path_name(path);
             fx::Image frame;
@@ -260,14 +373,16 @@ int bench_effects(const std::vector<std::string>& args) {
                 if (f < kWarmup) continue;
                 double effect_gpu = 0.0;
                 for (const terrain::EffectFrameStats& e : s.effects) effect_gpu += std::max(e.gpu_ms, 0.0);
-                ms.push_back(s.frame_ms), gpu.push_back(s.gpu_ms), update.push_back(s.update_ms), upload.push_back(s.upload_ms),
+                ms.push_back(s.frame_ms), cpu.push_back(s.update_cpu_ms + s.render_cpu_ms), gpu.push_back(s.gpu_ms),
+                    update.push_back(s.update_ms), upload.push_back(s.upload_ms),
                     surface.push_back(std::max(s.surface_gpu_ms, 0.0)), effects.push_back(effect_gpu),
                     composite.push_back(std::max(s.composite_gpu_ms, 0.0));
                 row.cells = s.cells_drawn;
                 row.noise = s.noise_samples;
                 last_effects[name + " " + row.path] = s.effects;
             }
-            row.ms = median(ms), row.gpu = median(gpu), row.update = median(update), row.upload = median(upload);
+            row.ms = median(ms), row.cpu = median(cpu), row.gpu = median(gpu), row.update = median(update),
+            row.upload = median(upload);
             row.surface = median(surface), row.effects = median(effects), row.composite = median(composite);
             // Verify the last timed frame: finite, and the effects visibly there.
             double changed = 0.0;
@@ -303,7 +418,9 @@ int bench_effects(const std::vector<std::string>& args) {
         }
     }
     std::printf("\n  cells: drawn per frame (all effects); noise: samples evaluated per frame; ms/frame: wall time of\n"
-                "  update + render to glFinish; gpu: sum of the stages' GL_TIME_ELAPSED; update: LOD + effect simulation\n"
+                "  update + render to glFinish; cpu: CPU time of update and render on the calling thread (cellfx and the\n"
+                "  driver's work there, waiting excluded; with GPU timing on: read the sample rows for a game's figure);\n"
+                "  gpu: sum of the stages' GL_TIME_ELAPSED; update: LOD + effect simulation\n"
                 "  (CPU); upload: set_mesh / set_scalars; surface / effects / composite: GPU ms; mean / max %%: the effects\n"
                 "  alone against the scan-line reference, in %% of its peak (pcp: against the reference clamped to 1).\n");
     std::printf("\n  last frame, per effect (pcp-exact where it ran):\n  %-12s %-14s %-12s %-11s %8s %8s %8s %9s %9s %9s\n",
@@ -338,6 +455,7 @@ int bench_effects(const std::vector<std::string>& args) {
                     "  set_mesh %.3f ms, set_scalars %.3f ms\n", fire.mesh().cell_count(), median(mesh_ms), median(scalar_ms));
     }
     if (!parsed.has("no-samples")) bench_samples(parsed, paths, frames, kWarmup, kDt);
+    if (!parsed.has("only-samples")) bench_cpu(cpu_scenes, frames, kWarmup, parsed);
     return 0;
 }
 

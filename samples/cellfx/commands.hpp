@@ -10,6 +10,7 @@ namespace cellfx_cli {
 int run_info(const std::vector<std::string>& args);
 int run_render(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
+int run_convert(const std::vector<std::string>& args);
 
 } // namespace cellfx_cli
 
@@ -28,6 +29,9 @@ int bench_absorption(const std::vector<std::string>& args);
 int bench_effects(const std::vector<std::string>& args);
 // `cellfx bench accuracy`: every path and flavour, ms per frame against error (CSV, Markdown, plot).
 int bench_accuracy(const std::vector<std::string>& args);
+
+// `cellfx bench render`: every path on an orbit around a user's mesh, checked, for peers to rerun.
+int bench_render(const std::vector<std::string>& args);
 
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);

@@ -1,4 +1,4 @@
-// cellfx — command line: info, render, bench.
+// cellfx — command line: info, render, convert, bench.
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -13,6 +13,7 @@ void usage() {
         "usage: cellfx <command> [options]\n"
         "  info FILE [Q_FILE]      mesh summary: cells by type, blocks, bounds, scalars, validation\n"
         "  render FILE [options]   render a mesh to PNG or PFM (see 'cellfx render --help')\n"
+        "  convert FILE --out F.vtk  write a mesh as VTK legacy, for other tools (see 'cellfx convert --help')\n"
         "  bench NAME [options]    benchmarks (see 'cellfx bench --help')");
 }
 
@@ -29,7 +30,8 @@ int main(int argc, char** argv) {
         if (command == "info") return cellfx_cli::run_info(args);
         if (command == "render") return cellfx_cli::run_render(args);
         if (command == "bench") return cellfx_cli::run_bench(args);
-        std::fprintf(stderr, "cellfx: unknown command '%s' (expected info, render or bench)\n", command.c_str());
+        if (command == "convert") return cellfx_cli::run_convert(args);
+        std::fprintf(stderr, "cellfx: unknown command '%s' (expected info, render, convert or bench)\n", command.c_str());
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "cellfx %s: %s\n", command.c_str(), e.what());

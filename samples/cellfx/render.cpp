@@ -13,9 +13,9 @@
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/image.hpp"
-#include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/transfer_function.hpp"
+#include "mesh_input.hpp"
 #include "options.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
@@ -211,19 +211,6 @@ fx::OpticalModel parse_model(const std::string& name) {
     throw fx::Error("--model: unknown optical model '" + name + "' (expected absorption, emission or max)");
 }
 
-fx::TransferFunction default_transfer_function() {
-    return fx::TransferFunction({{0.0, {0.10, 0.25, 0.90}, 0.02},
-                                 {0.5, {0.20, 0.90, 0.40}, 0.10},
-                                 {1.0, {1.00, 0.25, 0.10}, 0.40}},
-                                /*normalized=*/true);
-}
-
-fx::TransferFunction scale_extinction(const fx::TransferFunction& tf, double k) {
-    std::vector<fx::TransferPoint> points = tf.points();
-    for (fx::TransferPoint& p : points) p.sigma *= k;
-    return fx::TransferFunction(std::move(points), tf.normalized());
-}
-
 } // namespace
 
 int run_render(const std::vector<std::string>& args) {
@@ -248,21 +235,11 @@ int run_render(const std::vector<std::string>& args) {
         throw fx::Error("--path: unknown render path '" + path_name + "' (this build has: " + names + ")");
     }
 
-    const auto t_load = std::chrono::steady_clock::now();
-    const fx::CellMesh mesh = fx::read_mesh(parsed.positional[0], parsed.positional.size() > 1 ? parsed.positional[1] : "");
-    const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_load).count();
-    if (mesh.cell_count() == 0) throw fx::Error(parsed.positional[0] + ": the mesh has no volume cells to render");
-    if (mesh.scalars.empty()) throw fx::Error(parsed.positional[0] + ": the mesh has no point scalar field to render");
-    const std::string scalar = parsed.get("scalar", mesh.scalars.front().name);
-    const fx::ScalarField* field = mesh.find_scalar(scalar);
-    if (!field) {
-        std::string names;
-        for (const fx::ScalarField& f : mesh.scalars) names += (names.empty() ? "" : ", ") + f.name;
-        throw fx::Error("--scalar: no field '" + scalar + "' (the mesh has: " + names + ")");
-    }
-
-    RenderJob job{&mesh, field, default_transfer_function(), {}, 512, 512, fx::OpticalModel::EmissionAbsorption, 0,
-                  parsed.has("fog"), fx::SortMethod::Xmpvo};
+    const MeshInput input = read_mesh_input(parsed);
+    const fx::CellMesh& mesh = input.mesh;
+    const fx::ScalarField* field = &input.scalar();
+    RenderJob job{&mesh, field, transfer_function_option(parsed, *field, default_transfer_function()), {}, 512, 512,
+                  fx::OpticalModel::EmissionAbsorption, 0, parsed.has("fog"), fx::SortMethod::Xmpvo};
     if (parsed.has("sort")) {
         if (path_name != "absorption" && path_name != "absorption-exact")
             throw fx::Error("--sort is an option of the absorption paths");
@@ -273,16 +250,6 @@ int run_render(const std::vector<std::string>& args) {
         }
     }
     if (job.fog && path_name != "pcp-exact") throw fx::Error("--fog is an option of --path pcp-exact");
-    if (parsed.has("tf")) job.tf = fx::TransferFunction::read_json(parsed.get("tf"));
-    if (job.tf.normalized()) {
-        const fx::ScalarRange r = fx::scalar_range(*field);
-        job.tf = job.tf.rescaled(r.lo, r.hi);
-    }
-    if (parsed.has("density")) {
-        const double k = parse_double(parsed.get("density"), "--density");
-        if (k < 0.0) throw fx::Error("--density must not be negative");
-        job.tf = scale_extinction(job.tf, k);
-    }
     const fx::Bounds bounds = fx::mesh_bounds(mesh);
     job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);
     if (parsed.has("near")) {
@@ -303,8 +270,8 @@ int run_render(const std::vector<std::string>& args) {
     fx::write_image(frame.image, out);
 
     std::printf("wrote %s (%dx%d, path %s, scalar %s)\n", out.c_str(), job.width, job.height, path_name.c_str(),
-                scalar.c_str());
-    std::printf("  %-20s %10.2f ms\n", "load mesh", load_ms);
+                input.field.c_str());
+    std::printf("  %-20s %10.2f ms\n", "load mesh", input.load_ms);
     for (const auto& [stage, ms] : frame.milliseconds) std::printf("  %-20s %10.2f ms\n", stage.c_str(), ms);
     for (const auto& [name, value] : frame.counts) std::printf("  %-20s %10.6g\n", name.c_str(), value);
     for (const std::string& note : frame.notes) std::printf("  %s\n", note.c_str());

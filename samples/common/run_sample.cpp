@@ -200,6 +200,8 @@ TimedRun time_sample(const SampleInfo& info, const SampleOptions& options, int f
             run.frame_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             run.update_ms.push_back(content->update_ms());
             run.render_ms.push_back(content->render_ms());
+            run.update_cpu_ms.push_back(content->update_cpu_ms());
+            run.render_cpu_ms.push_back(content->render_cpu_ms());
         }
         run.cells_drawn = content->cells_drawn();
         run.path = content->path_label();

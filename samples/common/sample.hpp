@@ -97,6 +97,10 @@ public:
     virtual std::size_t cells_drawn() const = 0;
     virtual double update_ms() const = 0; // simulation part of the last frame
     virtual double render_ms() const = 0; // cellfx's render part of the last frame (CPU)
+    // CPU time the frame's cellfx calls took on the calling thread, waiting for the GPU excluded
+    // (update: cellfx alone; render: cellfx and the GL driver's work on that thread).
+    virtual double update_cpu_ms() const = 0;
+    virtual double render_cpu_ms() const = 0;
 };
 
 using ContentFactory = std::function<std::unique_ptr<SampleContent>(const SampleOptions&)>;
@@ -114,7 +118,7 @@ const SampleInfo& find_sample(const std::string& name); // throws fx::Error for 
 // framebuffer (as --headless draws them; no PNGs, no overlay) in the current GL context, each
 // to glFinish. Returns per-frame wall ms and the last frame (read back) with its statistics.
 struct TimedRun {
-    std::vector<double> frame_ms, update_ms, render_ms;
+    std::vector<double> frame_ms, update_ms, render_ms, update_cpu_ms, render_cpu_ms;
     std::size_t cells_drawn = 0;
     std::string path; // the content's path label
     fx::Image last_frame;

@@ -87,5 +87,7 @@ std::string SceneContent::stats_line() const { return module_.stats().summary();
 std::size_t SceneContent::cells_drawn() const { return module_.stats().cells_drawn; }
 double SceneContent::update_ms() const { return module_.stats().update_ms; }
 double SceneContent::render_ms() const { return module_.stats().render_ms; }
+double SceneContent::update_cpu_ms() const { return module_.stats().update_cpu_ms; }
+double SceneContent::render_cpu_ms() const { return module_.stats().render_cpu_ms; }
 
 } // namespace cellfx_samples

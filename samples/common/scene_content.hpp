@@ -46,6 +46,8 @@ public:
     std::size_t cells_drawn() const override;
     double update_ms() const override;
     double render_ms() const override;
+    double update_cpu_ms() const override;
+    double render_cpu_ms() const override;
 
 private:
     cellfx::Module module_;

@@ -3,6 +3,7 @@
 // choice of scalar field; default the NASA blunt fin shipped in content/meshes. The camera
 // orbits the mesh slowly (±20° over 30 s).
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -76,9 +77,7 @@ public:
             const fx::ScalarRange r = fx::scalar_range(mesh_.scalars[field_]);
             tf = tf.rescaled(r.lo, std::max(double(r.hi), r.lo + 1e-6 * std::max(1.0, std::abs(double(r.lo)))));
         }
-        std::vector<fx::TransferPoint> points = tf.points();
-        for (fx::TransferPoint& p : points) p.sigma *= density_;
-        return fx::TransferFunction(std::move(points), false);
+        return tf.scaled_extinction(density_);
     }
 
     glm::vec3 background() const override { return {0.06f, 0.065f, 0.08f}; }
@@ -94,12 +93,16 @@ public:
             return;
         }
         const auto t0 = std::chrono::steady_clock::now();
+        timespec cpu0{}, cpu1{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
         fx::CellRenderOptions options;
         options.scene_depth = depth_texture;
         options.fog = absorb_ && path_ == fx::RenderPath::PcpExact;
         stats_ = renderer_->render(view_, viewport, path_, options);
         render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
+        cpu_ms_ = double(cpu1.tv_sec - cpu0.tv_sec) * 1e3 + double(cpu1.tv_nsec - cpu0.tv_nsec) * 1e-6;
     }
 
     std::vector<fx::RenderPath> paths() const override { return {std::begin(fx::kRenderPaths), std::end(fx::kRenderPaths)}; }
@@ -130,6 +133,8 @@ public:
     std::size_t cells_drawn() const override { return stats_.cells_drawn; }
     double update_ms() const override { return 0.0; }
     double render_ms() const override { return render_ms_; }
+    double update_cpu_ms() const override { return 0.0; }
+    double render_cpu_ms() const override { return cpu_ms_; }
 
 private:
     fx::CellMesh mesh_;
@@ -141,7 +146,7 @@ private:
     std::optional<fx::CellRenderer> renderer_;
     fx::RenderPath path_ = fx::RenderPath::AbsorptionExact; // emission and absorption, sorted: what FEM fields need
     bool volume_ = true, absorb_ = false;
-    double time_ = 0.0, render_ms_ = 0.0;
+    double time_ = 0.0, render_ms_ = 0.0, cpu_ms_ = 0.0;
     fx::CellRenderStats stats_;
 };
 

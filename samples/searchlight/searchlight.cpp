@@ -19,7 +19,7 @@ SampleInfo searchlight_sample() {
     info.make = [](const SampleOptions& options) -> std::unique_ptr<SampleContent> {
         auto content = std::make_unique<SceneContent>(terrain::load_scene(scene_path("searchlight")), options);
         content->animate = [](cellfx::Module& module, double t) {
-            if (fx::SearchLight* patrol = module.effect<fx::SearchLight>("patrol")) patrol->set_parent_transform(drone_parent_transform(t));
+            if (module.has_effect("patrol")) module.set_parent_transform("patrol", drone_parent_transform(t));
         };
         auto boxes = std::make_shared<BoxRenderer>();
         const glm::dvec3 sun = content->module().scene().surface.sun_direction;

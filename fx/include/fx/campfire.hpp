@@ -55,7 +55,8 @@ public:
     // Throws fx::Error naming the parameter that is out of range.
     explicit Campfire(const CampfireParams& params = {});
 
-    const char* type_name() const override { return "campfire"; }
+    static constexpr const char* kTypeName = "campfire"; // type_name(): cellfx::Module::effect<E>() compares it
+    const char* type_name() const override { return kTypeName; }
     bool animated() const override { return params_.rise_speed != 0.0 || params_.flicker_rate != 0.0; }
     ScalarRange scalar_range() const override { return {0.0f, 1.0f}; }
 

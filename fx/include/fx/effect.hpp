@@ -29,9 +29,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
@@ -70,6 +72,8 @@ public:
     Effect& operator=(const Effect&) = delete;
 
     // "campfire", "search_light", "laser_cone", "ground_fog", "aurora" (the scene file's type).
+    // Each concrete effect also has it as `static constexpr const char* kTypeName`: the type tag
+    // by which cellfx::Module::effect<E>() finds an effect's type without RTTI.
     virtual const char* type_name() const = 0;
     // True if time alone changes the mesh, its scalars or its pose.
     virtual bool animated() const { return false; }
@@ -127,8 +131,8 @@ private:
 // The rigid part of a transform: its translation and the orthonormalised (Gram–Schmidt, x first)
 // rotation of its linear part. Throws fx::Error (naming `what`) for a matrix that is not
 // finite, has a zero or dependent column, mirrors (negative determinant), or has a bottom row
-// other than (0, 0, 0, 1).
-glm::dmat4 rigid_part(const glm::dmat4& m, const std::string& what);
+// other than (0, 0, 0, 1). Allocates nothing unless it throws.
+glm::dmat4 rigid_part(const glm::dmat4& m, std::string_view what);
 
 // A rigid transform placing local +z along `direction` at `position` (x and y chosen from a
 // fixed reference so that they change continuously except where direction crosses ±z). Throws
@@ -139,9 +143,17 @@ glm::dmat4 frame_along(const glm::dvec3& position, const glm::dvec3& direction);
 // `camera` gives of the mesh moved by `world_from_local` (rigid: rotation and translation).
 Camera camera_in_frame(const Camera& camera, const glm::dmat4& world_from_local);
 
-// Frustum test: false when the box lies entirely outside one of the six planes of `camera`
-// with this aspect (width / height); true otherwise (conservative: a box beside a frustum
-// corner may pass). False for empty bounds.
+// The view volume of `camera` with this aspect (width / height) as six world-space half-spaces
+// (GL's clip-space inequalities −w ≤ x ≤ w, ... carried back through the view-projection).
+struct Frustum {
+    glm::dvec4 planes[6]; // (n, d): n·p + d ≥ 0 inside
+    Frustum(const Camera& camera, double aspect);
+    // False when the box lies entirely outside one of the planes; true otherwise (conservative:
+    // a box beside a frustum corner may pass). False for empty bounds.
+    bool intersects(const Bounds& box) const;
+};
+
+// Frustum(camera, aspect).intersects(bounds).
 bool bounds_in_view(const Bounds& bounds, const Camera& camera, double aspect);
 
 // The box of `bounds` moved by `m` (its 8 corners transformed).

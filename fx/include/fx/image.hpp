@@ -5,6 +5,7 @@
 // standard colour PFM ("PF", little-endian, scale −1) so results can be checked numerically.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,11 @@ struct Image {
 
     Image() = default;
     Image(int w, int h, glm::vec4 fill = glm::vec4(0.0f));
-    glm::vec4& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-    const glm::vec4& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+    glm::vec4& at(int x, int y) { return pixels[index(x, y)]; }
+    const glm::vec4& at(int x, int y) const { return pixels[index(x, y)]; }
+    std::size_t index(int x, int y) const {
+        return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+    }
 };
 
 // Composites premultiplied `image` over an opaque background colour, in place (alpha → 1).

@@ -48,7 +48,8 @@ public:
     // Throws fx::Error naming the parameter that is out of range.
     explicit LaserCone(const LaserConeParams& params = {});
 
-    const char* type_name() const override { return "laser_cone"; }
+    static constexpr const char* kTypeName = "laser_cone"; // type_name(): cellfx::Module::effect<E>() compares it
+    const char* type_name() const override { return kTypeName; }
     bool animated() const override { return dusty() && params_.dust_drift != glm::dvec3(0.0); }
     ScalarRange scalar_range() const override { return {0.0f, float(params_.intensity)}; }
 

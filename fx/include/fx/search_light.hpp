@@ -59,7 +59,8 @@ public:
     // Throws fx::Error naming the parameter that is out of range.
     explicit SearchLight(const SearchLightParams& params = {});
 
-    const char* type_name() const override { return "search_light"; }
+    static constexpr const char* kTypeName = "search_light"; // type_name(): cellfx::Module::effect<E>() compares it
+    const char* type_name() const override { return kTypeName; }
     bool animated() const override { return params_.sweep.amplitude_degrees != 0.0; }
     ScalarRange scalar_range() const override { return {0.0f, float(params_.intensity)}; }
 

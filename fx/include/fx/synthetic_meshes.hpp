@@ -7,6 +7,7 @@
 // intersecting, curved grids with the table's node counts (941,159 points at resolution 1)
 // and a smooth scalar field "density" in [0, 1]. The real data set is not redistributable;
 // this one has its size and structure (several blocks that overlap in space), not its shape.
+// make_curved_duct() builds a finite-element-like, non-convex mesh of any size for benchmarks.
 #pragma once
 
 #include <array>
@@ -35,5 +36,14 @@ const std::array<std::array<std::uint32_t, 3>, 9>& shuttle_grid_dimensions();
 // The nine-grid data set inside roughly [−1, 1]³. `resolution` scales every node count
 // (at least 2 per axis): 1.0 gives Table 3's dimensions, 0.1 a small mesh for tests.
 CellMesh make_nine_grid_mesh(double resolution = 1.0);
+
+// A curved duct: a 240° sector of a thick cylindrical shell around the z axis (radius 1 to
+// 1.7, height about 1, its top undulating), one curvilinear block of positively oriented
+// hexahedra with a smooth field "temperature" (two waves and a hot spot, about 0.1 to 1.1).
+// Non-convex: a view into the sector's gap sees rays cross one arm, leave the mesh and enter
+// the far side. `tetrahedra`: the grid cut into consistent tetrahedra (tetrahedralize(), 5 or
+// 6 per hexahedron), a stand-in for an FEM mesh. Node spacing is chosen so that the mesh has
+// about `cells` cells (at least 6 tetrahedra or 1 hexahedron).
+CellMesh make_curved_duct(std::size_t cells, bool tetrahedra);
 
 } // namespace fx

@@ -51,6 +51,9 @@ public:
     // bound throws fx::Error. A function whose points all share one s is centred in [lo, hi].
     // Where a narrow range maps more than two points onto one s, the first and last are kept.
     TransferFunction rescaled(double lo, double hi) const;
+    // The same colours with every sigma multiplied by k (a scene's "extinction_scale"): k ≥ 0
+    // and finite, else fx::Error.
+    TransferFunction scaled_extinction(double k) const;
 
     // Values at s; at a step, the value from above (right-continuous).
     glm::dvec3 color(double s) const;

@@ -22,6 +22,32 @@ bool finite(const glm::dmat4& m) {
     return true;
 }
 
+// The rigid part of m, or the reason it has none (a message tail; nullptr when it has one).
+// Messages are built by the callers only on failure: a frame's transforms allocate nothing.
+const char* rigid_part_of(const glm::dmat4& m, glm::dmat4& r) {
+    if (!finite(m)) return "not finite";
+    if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+        return "the bottom row must be (0, 0, 0, 1) (no projection)";
+    const glm::dvec3 a(m[0]), b(m[1]), c(m[2]);
+    const double la = glm::length(a);
+    if (!(la > 0.0)) return "singular (its x axis is zero)";
+    const glm::dvec3 x = a / la;
+    const glm::dvec3 yb = b - glm::dot(b, x) * x;
+    const double ly = glm::length(yb);
+    if (!(ly > 1e-12 * std::max(glm::length(b), 1e-300))) return "singular (its y axis is zero or along x)";
+    const glm::dvec3 y = yb / ly;
+    const glm::dvec3 z = glm::cross(x, y);
+    const double dz = glm::dot(z, c);
+    if (!(std::abs(dz) > 1e-12 * std::max(glm::length(c), 1e-300))) return "singular (its z axis is zero or in the xy plane)";
+    if (dz < 0.0) return "mirrors (negative determinant); effects need a rotation";
+    r = glm::dmat4(1.0);
+    r[0] = glm::dvec4(x, 0.0);
+    r[1] = glm::dvec4(y, 0.0);
+    r[2] = glm::dvec4(z, 0.0);
+    r[3] = glm::dvec4(glm::dvec3(m[3]), 1.0);
+    return nullptr;
+}
+
 } // namespace
 
 Effect::Effect(std::string scalar_name) : scalar_name_(std::move(scalar_name)) {}
@@ -45,38 +71,24 @@ EffectChanges Effect::update(const EffectView& view) {
 glm::dmat4 Effect::pose_at(double) const { return glm::dmat4(1.0); }
 
 void Effect::set_parent_transform(const glm::dmat4& parent) {
-    rigid_part(parent, std::string(type_name()) + ": parent transform"); // validates
+    glm::dmat4 r;
+    if (const char* problem = rigid_part_of(parent, r))
+        throw Error(std::string(type_name()) + ": parent transform: " + problem);
     parent_ = parent;
 }
 
 glm::dmat4 Effect::transform_at(double time) const {
-    return rigid_part(parent_ * pose_at(time), std::string(type_name()) + ": transform");
+    glm::dmat4 r;
+    if (const char* problem = rigid_part_of(parent_ * pose_at(time), r))
+        throw Error(std::string(type_name()) + ": transform: " + problem);
+    return r;
 }
 
 Bounds Effect::world_bounds(double time) const { return transform_bounds(local_bounds(), transform_at(time)); }
 
-glm::dmat4 rigid_part(const glm::dmat4& m, const std::string& what) {
-    if (!finite(m)) throw Error(what + ": not finite");
-    if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
-        throw Error(what + ": the bottom row must be (0, 0, 0, 1) (no projection)");
-    const glm::dvec3 a(m[0]), b(m[1]), c(m[2]);
-    const double la = glm::length(a);
-    if (!(la > 0.0)) throw Error(what + ": singular (its x axis is zero)");
-    const glm::dvec3 x = a / la;
-    const glm::dvec3 yb = b - glm::dot(b, x) * x;
-    const double ly = glm::length(yb);
-    if (!(ly > 1e-12 * std::max(glm::length(b), 1e-300))) throw Error(what + ": singular (its y axis is zero or along x)");
-    const glm::dvec3 y = yb / ly;
-    const glm::dvec3 z = glm::cross(x, y);
-    const double dz = glm::dot(z, c);
-    if (!(std::abs(dz) > 1e-12 * std::max(glm::length(c), 1e-300)))
-        throw Error(what + ": singular (its z axis is zero or in the xy plane)");
-    if (dz < 0.0) throw Error(what + ": mirrors (negative determinant); effects need a rotation");
-    glm::dmat4 r(1.0);
-    r[0] = glm::dvec4(x, 0.0);
-    r[1] = glm::dvec4(y, 0.0);
-    r[2] = glm::dvec4(z, 0.0);
-    r[3] = glm::dvec4(glm::dvec3(m[3]), 1.0);
+glm::dmat4 rigid_part(const glm::dmat4& m, std::string_view what) {
+    glm::dmat4 r;
+    if (const char* problem = rigid_part_of(m, r)) throw Error(std::string(what) + ": " + problem);
     return r;
 }
 
@@ -121,26 +133,27 @@ Bounds transform_bounds(const Bounds& bounds, const glm::dmat4& m) {
     return out;
 }
 
-bool bounds_in_view(const Bounds& bounds, const Camera& camera, double aspect) {
-    if (bounds.empty()) return false;
-    // Each clip-space inequality (−w ≤ x, ...) is a half-space in world space: a box is outside
-    // the frustum if all its corners fail the same one.
+Frustum::Frustum(const Camera& camera, double aspect) {
+    // Row r of the view-projection: clip coordinate r of a world point. Plane p of the six:
+    // w + x ≥ 0, w − x ≥ 0, w + y ≥ 0, w − y ≥ 0, w + z ≥ 0, w − z ≥ 0.
     const glm::dmat4 vp = camera.projection_matrix(aspect) * camera.view_matrix();
-    glm::dvec4 corner[8];
-    for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 c((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
-                           (k & 4) ? bounds.hi.z : bounds.lo.z);
-        corner[k] = vp * glm::dvec4(c, 1.0);
-    }
-    // Plane p of the six: −w ≤ x, x ≤ w, −w ≤ y, y ≤ w, −w ≤ z, z ≤ w.
-    for (int p = 0; p < 6; ++p) {
-        const int axis = p / 2;
-        const double sign = (p % 2) ? 1.0 : -1.0;
-        bool all_outside = true;
-        for (int k = 0; k < 8 && all_outside; ++k) all_outside = sign * corner[k][axis] > corner[k].w;
-        if (all_outside) return false;
+    const auto row = [&vp](int r) { return glm::dvec4(vp[0][r], vp[1][r], vp[2][r], vp[3][r]); };
+    for (int p = 0; p < 6; ++p) planes[p] = row(3) + ((p % 2) ? -1.0 : 1.0) * row(p / 2);
+}
+
+bool Frustum::intersects(const Bounds& box) const {
+    if (box.empty()) return false;
+    for (const glm::dvec4& plane : planes) {
+        // The corner furthest along the plane's normal: outside with it, outside with all.
+        const glm::dvec3 corner(plane.x >= 0.0 ? box.hi.x : box.lo.x, plane.y >= 0.0 ? box.hi.y : box.lo.y,
+                                plane.z >= 0.0 ? box.hi.z : box.lo.z);
+        if (plane.x * corner.x + plane.y * corner.y + plane.z * corner.z + plane.w < 0.0) return false;
     }
     return true;
+}
+
+bool bounds_in_view(const Bounds& bounds, const Camera& camera, double aspect) {
+    return Frustum(camera, aspect).intersects(bounds);
 }
 
 } // namespace fx

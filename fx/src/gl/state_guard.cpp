@@ -5,17 +5,35 @@
 namespace fx::gl {
 namespace {
 
+thread_local int guard_depth = 0;       // guards alive on this thread
+thread_local std::uint64_t guard_saves = 0;
+
 // Non-indexed enables saved as a block (blend and scissor test are indexed, saved apart).
 constexpr GLenum kCaps[] = {
     GL_DEPTH_TEST,          GL_DEPTH_CLAMP,          GL_STENCIL_TEST,        GL_CULL_FACE,
     GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,  GL_POLYGON_OFFSET_POINT, GL_PRIMITIVE_RESTART,
     GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_RASTERIZER_DISCARD, GL_FRAMEBUFFER_SRGB, GL_MULTISAMPLE,
-    GL_SAMPLE_ALPHA_TO_COVERAGE, GL_DITHER,
+    GL_SAMPLE_ALPHA_TO_COVERAGE, GL_DITHER, GL_SAMPLE_COVERAGE, GL_SAMPLE_MASK, GL_SAMPLE_SHADING,
+    GL_POLYGON_SMOOTH, GL_LINE_SMOOTH, GL_COLOR_LOGIC_OP,
+};
+// Off in set_render_defaults (the others in kCaps it sets one by one, or leaves: multisample).
+constexpr GLenum kCapsOff[] = {
+    GL_BLEND, GL_SCISSOR_TEST, GL_DEPTH_TEST, GL_DEPTH_CLAMP, GL_STENCIL_TEST, GL_CULL_FACE,
+    GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE, GL_POLYGON_OFFSET_POINT, GL_PRIMITIVE_RESTART,
+    GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_RASTERIZER_DISCARD, GL_FRAMEBUFFER_SRGB, GL_SAMPLE_ALPHA_TO_COVERAGE,
+    GL_DITHER, // the default is on; exact paths want the float values as computed
+    GL_SAMPLE_COVERAGE, GL_SAMPLE_MASK, GL_SAMPLE_SHADING, GL_POLYGON_SMOOTH, GL_LINE_SMOOTH, GL_COLOR_LOGIC_OP,
 };
 
-constexpr GLenum kTextureTargets[4] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_BUFFER};
-constexpr GLenum kTextureBindings[4] = {GL_TEXTURE_BINDING_1D, GL_TEXTURE_BINDING_2D, GL_TEXTURE_BINDING_3D,
-                                        GL_TEXTURE_BINDING_BUFFER};
+// Every texture target of GL 4.5 core: glBindTextureUnit(unit, 0) unbinds all of them.
+constexpr GLenum kTargets[StateGuard::kTextureTargets] = {
+    GL_TEXTURE_1D,       GL_TEXTURE_2D,        GL_TEXTURE_3D,       GL_TEXTURE_1D_ARRAY,
+    GL_TEXTURE_2D_ARRAY, GL_TEXTURE_RECTANGLE, GL_TEXTURE_CUBE_MAP, GL_TEXTURE_CUBE_MAP_ARRAY,
+    GL_TEXTURE_BUFFER,   GL_TEXTURE_2D_MULTISAMPLE, GL_TEXTURE_2D_MULTISAMPLE_ARRAY};
+constexpr GLenum kTargetBindings[StateGuard::kTextureTargets] = {
+    GL_TEXTURE_BINDING_1D,       GL_TEXTURE_BINDING_2D,        GL_TEXTURE_BINDING_3D,       GL_TEXTURE_BINDING_1D_ARRAY,
+    GL_TEXTURE_BINDING_2D_ARRAY, GL_TEXTURE_BINDING_RECTANGLE, GL_TEXTURE_BINDING_CUBE_MAP, GL_TEXTURE_BINDING_CUBE_MAP_ARRAY,
+    GL_TEXTURE_BINDING_BUFFER,   GL_TEXTURE_BINDING_2D_MULTISAMPLE, GL_TEXTURE_BINDING_2D_MULTISAMPLE_ARRAY};
 constexpr GLenum kPackNames[5] = {GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH, GL_PACK_SKIP_PIXELS, GL_PACK_SKIP_ROWS,
                                   GL_PACK_IMAGE_HEIGHT};
 constexpr GLenum kUnpackNames[6] = {GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_PIXELS,
@@ -63,9 +81,16 @@ void restore_indexed(GLenum target, GLint count, const T& saved, GLint generic) 
 
 } // namespace
 
-static_assert(sizeof(kCaps) / sizeof(kCaps[0]) == 14, "StateGuard::kCapCount must match kCaps");
+static_assert(sizeof(kCaps) / sizeof(kCaps[0]) == StateGuard::kCapCount, "StateGuard::kCapCount must match kCaps");
+
+std::uint64_t StateGuard::saves() { return guard_saves; }
 
 StateGuard::StateGuard() {
+    if (guard_depth++ > 0) {
+        nested_ = true;
+        return;
+    }
+    ++guard_saves;
     draw_buffers_ = std::min(get_int(GL_MAX_DRAW_BUFFERS), kDrawBuffers);
     viewports_ = std::min(get_int(GL_MAX_VIEWPORTS), kViewports);
 
@@ -74,6 +99,7 @@ StateGuard::StateGuard() {
     for (int i = 0; i < viewports_; ++i) {
         const auto u = static_cast<GLuint>(i);
         glGetFloati_v(GL_VIEWPORT, u, viewport_[i].data());
+        glGetDoublei_v(GL_DEPTH_RANGE, u, depth_range_[i].data());
         glGetIntegeri_v(GL_SCISSOR_BOX, u, scissor_box_[i].data());
         scissor_test_[i] = glIsEnabledi(GL_SCISSOR_TEST, u);
     }
@@ -104,8 +130,12 @@ StateGuard::StateGuard() {
     clip_origin_ = get_int(GL_CLIP_ORIGIN);
     clip_depth_mode_ = get_int(GL_CLIP_DEPTH_MODE);
     restart_index_ = get_int(GL_PRIMITIVE_RESTART_INDEX);
+    provoking_vertex_ = get_int(GL_PROVOKING_VERTEX);
+    clamp_read_color_ = get_int(GL_CLAMP_READ_COLOR);
     for (int i = 0; i < kCapCount; ++i)
         caps_[i] = glIsEnabled(kCaps[i]);
+    for (int i = 0; i < kClipDistances; ++i)
+        clip_distances_[i] = glIsEnabled(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
 
     program_ = get_int(GL_CURRENT_PROGRAM);
     vertex_array_ = get_int(GL_VERTEX_ARRAY_BINDING);
@@ -114,8 +144,8 @@ StateGuard::StateGuard() {
     active_texture_ = get_int(GL_ACTIVE_TEXTURE);
     for (int unit = 0; unit < kUnits; ++unit) {
         glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
-        for (int t = 0; t < 4; ++t)
-            textures_[unit][t] = get_int(kTextureBindings[t]);
+        for (int t = 0; t < kTextureTargets; ++t)
+            textures_[unit][t] = get_int(kTargetBindings[t]);
         glGetIntegeri_v(GL_SAMPLER_BINDING, static_cast<GLuint>(unit), &samplers_[unit]);
     }
     glActiveTexture(static_cast<GLenum>(active_texture_));
@@ -134,11 +164,14 @@ StateGuard::StateGuard() {
 }
 
 StateGuard::~StateGuard() {
+    --guard_depth;
+    if (nested_) return;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(draw_fbo_));
     glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(read_fbo_));
     for (int i = 0; i < viewports_; ++i) {
         const auto u = static_cast<GLuint>(i);
         glViewportIndexedfv(u, viewport_[i].data());
+        glDepthRangeIndexed(u, depth_range_[i][0], depth_range_[i][1]);
         glScissorIndexedv(u, scissor_box_[i].data());
         if (scissor_test_[i])
             glEnablei(GL_SCISSOR_TEST, u);
@@ -168,8 +201,12 @@ StateGuard::~StateGuard() {
     glPolygonOffset(offset_factor_, offset_units_);
     glClipControl(static_cast<GLenum>(clip_origin_), static_cast<GLenum>(clip_depth_mode_));
     glPrimitiveRestartIndex(static_cast<GLuint>(restart_index_));
+    glProvokingVertex(static_cast<GLenum>(provoking_vertex_));
+    glClampColor(GL_CLAMP_READ_COLOR, static_cast<GLenum>(clamp_read_color_));
     for (int i = 0; i < kCapCount; ++i)
         set_cap(kCaps[i], caps_[i]);
+    for (int i = 0; i < kClipDistances; ++i)
+        set_cap(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i), clip_distances_[i]);
 
     glUseProgram(static_cast<GLuint>(program_));
     glBindVertexArray(static_cast<GLuint>(vertex_array_));
@@ -177,8 +214,8 @@ StateGuard::~StateGuard() {
 
     for (int unit = 0; unit < kUnits; ++unit) {
         glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
-        for (int t = 0; t < 4; ++t)
-            glBindTexture(kTextureTargets[t], static_cast<GLuint>(textures_[unit][t]));
+        for (int t = 0; t < kTextureTargets; ++t)
+            glBindTexture(kTargets[t], static_cast<GLuint>(textures_[unit][t]));
         glBindSampler(static_cast<GLuint>(unit), static_cast<GLuint>(samplers_[unit]));
     }
     glActiveTexture(static_cast<GLenum>(active_texture_));
@@ -195,25 +232,19 @@ StateGuard::~StateGuard() {
 }
 
 void StateGuard::set_render_defaults() {
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_DEPTH_CLAMP);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    glDisable(GL_POLYGON_OFFSET_LINE);
-    glDisable(GL_POLYGON_OFFSET_POINT);
-    glDisable(GL_PRIMITIVE_RESTART);
-    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glDisable(GL_RASTERIZER_DISCARD);
-    glDisable(GL_FRAMEBUFFER_SRGB);
-    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-    glDisable(GL_DITHER); // the default is on; exact paths want the float values as computed
+    for (GLenum cap : kCapsOff)
+        glDisable(cap);
+    for (int i = 0; i < kClipDistances; ++i)
+        glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glFrontFace(GL_CCW);
+    glProvokingVertex(GL_LAST_VERTEX_CONVENTION);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDepthRange(0.0, 1.0);
     glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     for (GLenum name : kPackNames)

@@ -1,19 +1,26 @@
 // cellfx — saves the host's GL state on construction and restores it on destruction.
 //
 // cellfx renders inside the host's (a game's) context and frame, so every render entry point
-// holds a StateGuard while it changes state. Saved and restored, exactly:
+// holds a StateGuard while it changes state. Guards nest: only the outermost guard on a thread
+// saves and restores (once per frame at the module boundary — Module::render,
+// SceneRenderer::render — however many passes run inside); an inner guard (CellRenderer::render
+// called by the scene renderer) does nothing, so code inside a guard sets the state it needs
+// (set_render_defaults() and its own bindings) rather than relying on an inner guard's restore.
+// Saved and restored, exactly:
 //   - draw and read framebuffer bindings; for every viewport index (ARB_viewport_array, up to
-//     kViewports): viewport, scissor test and scissor box;
+//     kViewports): viewport, depth range, scissor test and scissor box;
 //   - per draw buffer: blend enable, blend func separate, blend equation separate, colour mask
 //     (indexed, so a host with per-buffer blending gets it back); blend colour;
 //   - depth test, depth func, depth mask, depth clamp; stencil test; cull face enable + mode,
 //     front face; polygon mode; polygon offset fill/line/point enables, factor and units;
-//     clip control (origin, depth mode); primitive restart (+ fixed index) and its index;
-//     rasterizer discard, framebuffer sRGB, multisample, sample alpha-to-coverage, dither;
-//     clear colour and clear depth;
+//     clip control (origin, depth mode); clip distances 0–7; provoking vertex; primitive
+//     restart (+ fixed index) and its index; rasterizer discard, framebuffer sRGB, multisample,
+//     sample alpha-to-coverage, sample coverage, sample mask, sample shading, polygon and line
+//     smoothing, colour logic op, dither; read-colour clamping; clear colour and clear depth;
 //   - current program, vertex array binding, array buffer binding;
-//   - active texture unit; on units 0..kUnits-1: texture bindings for 1D, 2D, 3D and buffer
-//     textures and the sampler binding;
+//   - active texture unit; on units 0..kUnits-1: the binding of every texture target (1D, 2D,
+//     3D, 1D/2D array, rectangle, cube map, cube map array, buffer, 2D multisample and 2D
+//     multisample array — glBindTextureUnit(unit, 0) unbinds them all) and the sampler binding;
 //   - uniform and shader storage buffers: generic bindings and indexed bindings 0..kUnits-1
 //     (buffer, offset, size);
 //   - pixel pack/unpack buffer bindings and pack/unpack alignment, row length, skip pixels/rows,
@@ -26,6 +33,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 #include <epoxy/gl.h>
 
@@ -33,9 +41,12 @@ namespace fx::gl {
 
 class StateGuard {
 public:
-    static constexpr int kUnits = 4;       // texture units / indexed buffer bindings saved
-    static constexpr int kDrawBuffers = 8; // indexed blend/colour-mask state saved (≤ GL max)
-    static constexpr int kViewports = 16;  // indexed viewport/scissor state saved (≤ GL max)
+    static constexpr int kUnits = 8;        // texture units / indexed buffer bindings saved (cellfx uses 0–3)
+    static constexpr int kTextureTargets = 11;
+    static constexpr int kDrawBuffers = 8;  // indexed blend/colour-mask state saved (≤ GL max)
+    static constexpr int kViewports = 16;   // indexed viewport/scissor/depth-range state saved (≤ GL max)
+    static constexpr int kClipDistances = 8;
+    static constexpr int kCapCount = 20;    // enables saved as a block (kCaps in state_guard.cpp)
 
     StateGuard();
     ~StateGuard();
@@ -43,10 +54,17 @@ public:
     StateGuard& operator=(const StateGuard&) = delete;
 
     // Puts the state render paths expect as a starting point: blend, depth, stencil, cull,
-    // scissor, polygon offset, rasterizer discard, primitive restart, sRGB off; fill polygons;
-    // colour and depth writes on; clip control GL defaults; pack/unpack tightly packed
-    // (alignment 1) with no pixel buffers bound. Bindings, viewport and program are untouched.
+    // scissor, polygon offset, clip distances, smoothing, logic op, sample coverage/mask/shading,
+    // rasterizer discard, primitive restart, sRGB off; fill polygons, counter-clockwise front
+    // faces, last-vertex provoking; colour and depth writes on, depth func LESS, depth range
+    // [0, 1]; clip control GL's defaults (whatever the game uses, e.g. reversed-Z's
+    // GL_ZERO_TO_ONE); read colours unclamped; pack/unpack tightly packed (alignment 1) with no
+    // pixel buffers bound. Bindings, viewport and program are untouched.
     static void set_render_defaults();
+
+    // Outermost guards made on this thread so far (each one a full save and restore): tests
+    // check that a frame saves once.
+    static std::uint64_t saves();
 
 private:
     struct IndexedBuffer {
@@ -59,32 +77,33 @@ private:
         GLint eq_rgb = 0, eq_alpha = 0;
         std::array<GLboolean, 4> color_mask{};
     };
-
+    bool nested_ = false; // an outer guard on this thread saves and restores
     int draw_buffers_ = 0, viewports_ = 0;
     GLint draw_fbo_ = 0, read_fbo_ = 0;
     std::array<std::array<GLfloat, 4>, kViewports> viewport_{};
+    std::array<std::array<GLdouble, 2>, kViewports> depth_range_{};
     std::array<std::array<GLint, 4>, kViewports> scissor_box_{};
     std::array<GLboolean, kViewports> scissor_test_{};
     std::array<DrawBufferState, kDrawBuffers> draw_buffer_{};
     std::array<GLfloat, 4> blend_color_{}, clear_color_{};
     GLdouble clear_depth_ = 1.0;
-    GLint depth_func_ = 0, cull_mode_ = 0, front_face_ = 0, polygon_mode_ = 0;
+    GLint depth_func_ = 0, cull_mode_ = 0, front_face_ = 0, polygon_mode_ = 0, provoking_vertex_ = 0;
     GLboolean depth_mask_ = GL_TRUE;
     GLfloat offset_factor_ = 0.0f, offset_units_ = 0.0f;
     GLint clip_origin_ = 0, clip_depth_mode_ = 0;
     GLint restart_index_ = 0;
+    GLint clamp_read_color_ = 0;
+    std::array<GLboolean, kCapCount> caps_{};
+    std::array<GLboolean, kClipDistances> clip_distances_{};
     GLint program_ = 0, vertex_array_ = 0, array_buffer_ = 0;
     GLint active_texture_ = 0;
-    std::array<std::array<GLint, 4>, kUnits> textures_{}; // 1D, 2D, 3D, buffer per unit
+    std::array<std::array<GLint, kTextureTargets>, kUnits> textures_{};
     std::array<GLint, kUnits> samplers_{};
     GLint uniform_buffer_ = 0, storage_buffer_ = 0;
     std::array<IndexedBuffer, kUnits> uniform_buffers_{}, storage_buffers_{};
     GLint pack_buffer_ = 0, unpack_buffer_ = 0;
     std::array<GLint, 5> pack_{};   // alignment, row length, skip pixels, skip rows, image height
     std::array<GLint, 6> unpack_{}; // the same + skip images
-
-    static constexpr int kCapCount = 14; // see kCaps in state_guard.cpp
-    std::array<GLboolean, kCapCount> caps_{};
 };
 
 } // namespace fx::gl

@@ -4,7 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
 #include "fx/error.hpp"
+#include "fx/tetrahedralize.hpp"
 
 namespace fx {
 
@@ -106,6 +110,28 @@ CellMesh make_nine_grid_mesh(double resolution) {
         return std::clamp(v, 0.0, 1.0);
     });
     return mesh;
+}
+
+CellMesh make_curved_duct(std::size_t cells, bool tetrahedra) {
+    // Node spacing h from the wanted count: arc (at mid radius) 5.65, radial 0.7, height 1.0;
+    // a hexahedron gives 5.5 tetrahedra on average.
+    const double hexes = std::max(1.0, double(cells) / (tetrahedra ? 5.5 : 1.0));
+    const double h = std::cbrt(5.65 * 0.7 * 1.0 / hexes);
+    const auto nodes = [h](double length) { return std::max(1u, std::uint32_t(std::lround(length / h))) + 1; };
+    CellMesh mesh;
+    append_curvilinear_block(mesh, "duct", {std::max(3u, nodes(5.65)), nodes(0.7), nodes(1.0)},
+                             [](double u, double v, double w) {
+                                 // Angle falling with u, radius growing with v, height with w:
+                                 // right-handed, so the cells are positively oriented.
+                                 const double a = glm::radians(210.0 - 240.0 * u), r = 1.0 + 0.7 * v;
+                                 return glm::dvec3(r * std::cos(a), r * std::sin(a), w * (1.0 + 0.15 * std::sin(2.0 * a)));
+                             });
+    set_scalar_field(mesh, "temperature", [](const glm::dvec3& p) {
+        const glm::dvec3 hot(-0.9, 1.0, 0.5);
+        return 0.35 + 0.25 * std::sin(2.5 * p.x + 1.0) * std::cos(2.0 * p.y) + 0.3 * p.z +
+               0.45 * std::exp(-glm::dot(p - hot, p - hot) / 0.15);
+    });
+    return tetrahedra ? tetrahedralize(mesh) : mesh;
 }
 
 } // namespace fx

@@ -146,6 +146,14 @@ TransferFunction TransferFunction::constant(const glm::dvec3& color, double sigm
     return TransferFunction({{0.0, color, sigma}});
 }
 
+TransferFunction TransferFunction::scaled_extinction(double k) const {
+    if (!(k >= 0.0) || !std::isfinite(k)) throw Error("transfer function: the extinction scale must be finite and ≥ 0, got " + number(k));
+    if (points_.empty()) return {};
+    std::vector<TransferPoint> points = points_;
+    for (TransferPoint& p : points) p.sigma *= k;
+    return TransferFunction(std::move(points), normalized_);
+}
+
 TransferFunction TransferFunction::rescaled(double lo, double hi) const {
     if (!std::isfinite(lo) || !std::isfinite(hi) || lo == hi)
         throw Error("transfer function: rescaled: need finite lo != hi, got [" + number(lo) + ", " + number(hi) + "]");

@@ -2,8 +2,9 @@
 //
 // Ground fog over terrain, campfires, search lights, laser cones and aurora, rendered by
 // projecting convex cells (Roettger & Ertl 2003) into the game's own OpenGL 4.5 context,
-// framebuffer and depth buffer. Link cellfx::cellfx (CMake); everything here is in namespace
-// cellfx, with the types it uses from fx:: and terrain:: (their headers say more).
+// framebuffer and depth buffer. Link cellfx::cellfx (CMake: add_subdirectory, FetchContent or
+// find_package(cellfx); or pkg-config cellfx); everything here is in namespace cellfx, with the
+// types it uses from fx:: and terrain:: (their headers say more).
 //
 // STEP BY STEP
 // ============
@@ -14,45 +15,57 @@
 //        fx.init({"content/scenes/campfire.json", 1280, 720});   // shaders, LODs; no effect
 //                                                                // mesh is built yet
 //    or
-//        terrain::Scene scene;                                   // no terrain: effects only
-//        terrain::EffectSpec fire;
+//        cellfx::Scene scene;                                    // no terrain: effects only
+//        cellfx::EffectSpec fire;
 //        fire.name = "fire";
 //        fire.params = fx::CampfireParams{};                     // every parameter has a default
 //        fire.transfer_function = fx::TransferFunction::read_json("content/transfer_functions/fire.json");
+//        fire.extinction_scale = 0.2;
 //        scene.effects.push_back(fire);
-//        fx.init(cellfx::Config::from_scene(scene, 1280, 720));
+//        cellfx::Config config = cellfx::Config::from_scene(scene, 1280, 720);
+//        config.world_up = cellfx::WorldUp::Y;                   // a y-up engine (default: z up)
+//        fx.init(config);
 //
 // 2. Every frame, after moving your camera, let cellfx simulate what this view needs. It skips
 //    disabled effects and effects outside the view (no cells, no noise), rebuilds nothing that
-//    did not change, and needs no GL:
+//    did not change, allocates nothing in a steady frame, and needs no GL:
 //
 //        fx::Camera camera = cellfx::camera_from_view(view_matrix, fov_y_degrees, near, far);
 //        fx.update(dt, camera);
 //
-// 3. Draw your opaque world with the same camera (camera.projection_matrix(aspect) and
-//    camera.view_matrix(), GL's default depth range) into your framebuffer, with a depth
-//    *texture* attached (GL_DEPTH_COMPONENT24/32F, GL_TEXTURE_2D).
+// 3. Draw your opaque world with the same camera into your framebuffer, with a depth *texture*
+//    attached (GL_TEXTURE_2D or GL_TEXTURE_2D_MULTISAMPLE, any depth format), in your depth
+//    convention: standard, or reversed-Z (cellfx::DepthConvention says which).
 //
 // 4. Let cellfx draw over it. Fog and fire stop at your geometry; the terrain (when the scene
-//    draws it) is depth-tested against it. Every GL state cellfx touches is restored:
+//    draws it) is depth-tested against it. Every GL state cellfx touches is restored, once:
 //
 //        fx.render({framebuffer, {0, 0, width, height}, depth_texture});
+//        // reversed-Z: target.depth.reversed = true (and its planes if not the camera's)
 //
 //    (framebuffer 0 is the window; without a depth texture nothing of yours hides the effects.)
 //
-// 5. Show what it did, switch effects, change render paths, move lights:
+// 5. Show what it did; add, remove, switch and tune effects; move lights; reload the scene:
 //
 //        draw_text(fx.stats().summary());        // "t 3.2 s 9.8 ms | fire: simulated pcp-exact 2172 cells, noise 1764 | ..."
 //        fx.set_enabled("fire", !fx.enabled("fire"));
 //        fx.set_path("fire", fx::RenderPath::Mip);
-//        fx.effect<fx::SearchLight>("patrol")->set_parent_transform(truck_world_matrix);
+//        fx.set_extinction_scale("fire", 0.3);
+//        fx.set_parent_transform("patrol", truck_world_matrix);
+//        fx.effect<fx::SearchLight>("patrol")->set_pose(lens, direction);
+//        if (cellfx::Status s = fx.try_reload("content/scenes/campfire.json"); !s) log(s.message());
 //
 // 6. fx.shutdown() — or let the destructor run — while the context is still current.
 //
-// Threads: one thread, the one whose GL context cellfx was started in. Errors: fx::Error with
-// a message naming the file, key or effect; cellfx never aborts.
+// Threads: one thread, the one whose GL context cellfx was started in (Config::parallel_for lends
+// cellfx the game's job system for the CPU work it can split). Errors: every call that can fail
+// has two forms — one that throws fx::Error with a message naming the file, key or effect, and a
+// try_ form that returns a cellfx::Status with the same message and never throws (games built
+// with -fno-exceptions use those; nothing here needs RTTI). A failed call changes nothing;
+// cellfx never aborts.
 #pragma once
 
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
@@ -66,6 +79,7 @@
 #include "fx/effect.hpp"
 #include "fx/error.hpp"
 #include "fx/laser_cone.hpp"
+#include "fx/parallel_for.hpp"
 #include "fx/search_light.hpp"
 #include "fx/transfer_function.hpp"
 #include "terrain/scene.hpp"
@@ -73,17 +87,46 @@
 
 namespace cellfx {
 
+using terrain::DepthConvention; // how the game's depth texture was written (standard, reversed-Z)
 using terrain::EffectFrameStats;
+using terrain::EffectParams; // fx::CampfireParams, fx::SearchLightParams or fx::LaserConeParams
+using terrain::EffectSpec;   // one effect: name, parameters, colour, extinction scale, path
 using terrain::EffectStatus;
 using terrain::FrameStats;
 using terrain::Scene;
-using terrain::Target; // {framebuffer, viewport, depth_texture}: where render() draws
+using terrain::Target; // {framebuffer, viewport, depth_texture, depth}: where render() draws
+
+// The outcome of a call that can fail: ok, or the error the throwing form would have thrown.
+class Status {
+public:
+    Status() = default; // ok
+    static Status error(std::string message) {
+        Status s;
+        s.failed_ = true;
+        s.message_ = std::move(message);
+        return s;
+    }
+    bool ok() const noexcept { return !failed_; }
+    explicit operator bool() const noexcept { return !failed_; }
+    const std::string& message() const noexcept { return message_; } // "" when ok
+
+private:
+    bool failed_ = false;
+    std::string message_;
+};
+
+// The game's up axis. cellfx's scenes (files, terrain, effect parameters) are z-up; a y-up game
+// gives its cameras and parent transforms in its own frame and sees fire rise along its +y:
+// world (x, y, z) is scene (x, −z, y).
+enum class WorldUp { Z, Y };
 
 struct Config {
     std::string scene_file;            // a scene file (docs/effects.md), or empty and:
     std::optional<Scene> scene;        // a scene built in code
     int width = 0, height = 0;         // the first frames' viewport size (0: the scene's render size)
     std::optional<bool> draw_terrain;  // override the scene's "terrain.draw"
+    WorldUp world_up = WorldUp::Z;
+    fx::ParallelFor parallel_for;      // the host's job system (none: cellfx's CPU work on the calling thread)
 
     Config() = default;
     Config(std::string file, int w = 0, int h = 0) : scene_file(std::move(file)), width(w), height(h) {}
@@ -97,8 +140,11 @@ struct Config {
 
 // A camera from a game's view matrix (world → eye, right-handed, looking down −z as in
 // OpenGL) and its perspective projection's parameters. Throws fx::Error for a matrix that is not
-// a rigid motion or parameters out of range (fov in (0, 179), 0 < near < far).
+// a rigid motion or parameters out of range (fov in (0, 179), 0 < near < far, far finite: give
+// an infinite reversed-Z projection's planes in Target::depth and a finite far here).
 fx::Camera camera_from_view(const glm::dmat4& view, double fov_y_degrees, double near_distance, double far_distance);
+Status try_camera_from_view(const glm::dmat4& view, double fov_y_degrees, double near_distance, double far_distance,
+                            fx::Camera& camera) noexcept;
 
 class Module {
 public:
@@ -109,50 +155,99 @@ public:
     Module(const Module&) = delete;
     Module& operator=(const Module&) = delete;
 
+    // --- lifecycle ---------------------------------------------------------------------------
     // Loads the scene and builds its GL objects in the current context (an OpenGL 4.5 core
-    // context must be current: checked). Calling it again replaces the scene. Throws fx::Error
-    // (no or too old a context, a scene file error naming the file and key, a GL failure); the
-    // module is then not initialized.
+    // context must be current: checked). Throws fx::Error (no or too old a context, a scene file
+    // error naming the file and key, a GL failure); an initialized module is then left as it
+    // was. To change the scene of a running module keep its clock and choices: reload().
     void init(const Config& config);
-    void shutdown(); // releases every GL object cellfx made; the context must be current
-    bool initialized() const;
+    Status try_init(const Config& config) noexcept;
+    void shutdown() noexcept; // releases every GL object cellfx made; the context must be current
+    bool initialized() const noexcept;
 
-    // Advances the clock by dt seconds and simulates what `camera` sees (no GL calls). The
-    // viewport size is the last render()'s (or init's): a render of another size re-simulates
-    // for it first. Throws fx::Error for a non-finite dt or camera, or before init().
+    // --- every frame -----------------------------------------------------------------------
+    // Advances the clock by dt seconds and simulates what `camera` (the game's world frame)
+    // sees; no GL calls. The viewport size is the last render()'s (or init's): a render of
+    // another size re-simulates for it first. Throws fx::Error for a non-finite dt or camera,
+    // or before init().
     void update(double dt, const fx::Camera& camera);
+    Status try_update(double dt, const fx::Camera& camera) noexcept;
     // Draws the updated frame over the game's (see the header comment); restores GL state.
+    // Throws for a depth texture it cannot read (naming it) or before update().
     void render(const Target& target);
-    const FrameStats& stats() const;
+    Status try_render(const Target& target) noexcept;
+    const FrameStats& stats() const noexcept; // the last frame's (empty before the first)
 
-    // The scene's clock (seconds since init unless set) and its camera at that time (the camera
-    // path when the scene has one, else its camera): for demos and headless runs.
-    double time() const;
-    void set_time(double seconds);
+    // The scene's clock (seconds since init unless set) and its camera at that time in the
+    // game's frame (the camera path when the scene has one): for demos and headless runs.
+    double time() const noexcept;
+    void set_time(double seconds); // throws for a non-finite time
+    Status try_set_time(double seconds) noexcept;
     fx::Camera scene_camera() const;
-    const Scene& scene() const;
+    // The scene as it is drawn now: run-time changes (effects added, parameters, colours, paths)
+    // included. An empty scene before init().
+    const Scene& scene() const noexcept;
 
-    // Effects by name ("fog", "aurora", the names in "effects"). Unknown names throw fx::Error.
+    // --- the scene at run time ---------------------------------------------------------------
+    // Parses the file (or takes the scene) first and swaps only if everything is built: a bad
+    // file leaves the running scene untouched and the error names file and key. Kept across the
+    // swap: the clock, the parent transforms of effects of the same name, the render paths and
+    // enabled states the game chose (set_path, set_enabled), set_terrain_drawn's choice.
+    void reload(const std::string& scene_file);
+    Status try_reload(const std::string& scene_file) noexcept;
+    void reload(const Scene& scene);
+    Status try_reload(const Scene& scene) noexcept;
+
+    // Effects by name ("fog", "aurora", the names in scene().effects). The setters throw
+    // fx::Error for an unknown name or a bad value and then change nothing; each costs what it
+    // changes (docs/effects.md).
     std::vector<std::string> effect_names() const;
+    bool has_effect(const std::string& name) const noexcept;
+    void add_effect(const EffectSpec& spec); // a new name; built when first in view
+    Status try_add_effect(const EffectSpec& spec) noexcept;
+    void remove_effect(const std::string& name); // an entry of scene().effects (fog, aurora: set_enabled)
+    Status try_remove_effect(const std::string& name) noexcept;
     void set_enabled(const std::string& name, bool enabled);
+    Status try_set_enabled(const std::string& name, bool enabled) noexcept;
     bool enabled(const std::string& name) const;
     void set_path(const std::string& name, fx::RenderPath path);
+    Status try_set_path(const std::string& name, fx::RenderPath path) noexcept;
     fx::RenderPath path(const std::string& name) const;
-    // The live effect, or nullptr if it has another type: effect<fx::SearchLight>("patrol").
+    // Every parameter of an entry of scene().effects (another type replaces the effect).
+    void set_params(const std::string& name, const EffectParams& params);
+    Status try_set_params(const std::string& name, const EffectParams& params) noexcept;
+    // Colour and extinction: the transfer function as read (normalized ones mapped onto the
+    // effect's scalar range) and the factor on its extinction.
+    void set_transfer_function(const std::string& name, const fx::TransferFunction& tf);
+    Status try_set_transfer_function(const std::string& name, const fx::TransferFunction& tf) noexcept;
+    void set_extinction_scale(const std::string& name, double scale);
+    Status try_set_extinction_scale(const std::string& name, double scale) noexcept;
+    void set_absorb(const std::string& name, bool absorb); // pcp-exact: dims what is behind it
+    Status try_set_absorb(const std::string& name, bool absorb) noexcept;
+    // Attaches an effect to a game object: `world_from_object` in the game's world frame (its up
+    // axis as Config::world_up says), given again whenever the object moves; costs no rebuild.
+    void set_parent_transform(const std::string& name, const glm::dmat4& world_from_object);
+    Status try_set_parent_transform(const std::string& name, const glm::dmat4& world_from_object) noexcept;
+    // The live effect, or nullptr for an unknown name or another type: effect<fx::SearchLight>
+    // ("patrol"), effect<terrain::GroundFog>("fog"). By the type's kTypeName tag (no RTTI).
+    // Its own setters (set_pose, set_params) work in scene coordinates (z up).
     template <class E>
-    E* effect(const std::string& name) {
-        return dynamic_cast<E*>(&renderer().effect(name));
+    E* effect(const std::string& name) noexcept {
+        fx::Effect* e = find_effect(name);
+        return e && std::strcmp(e->type_name(), E::kTypeName) == 0 ? static_cast<E*>(e) : nullptr;
     }
     void set_terrain_drawn(bool drawn); // throws for a scene without terrain
-    bool terrain_drawn() const;
+    Status try_set_terrain_drawn(bool drawn) noexcept;
+    bool terrain_drawn() const noexcept;
 
-    // Everything else (per-effect transfer functions, GPU timing, LOD error bound).
+    // Tools and benchmarks: GPU timing, LOD error bound, background of whole frames.
     terrain::SceneRenderer& renderer();
 
 private:
     struct State;
     std::unique_ptr<State> state_;
     State& ready() const; // throws before init()
+    fx::Effect* find_effect(const std::string& name) noexcept;
 };
 
 } // namespace cellfx

@@ -23,6 +23,7 @@
 #include <string>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/effect.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
 
@@ -41,6 +42,7 @@ struct LayerPrismStats {
     std::size_t triangles = 0;   // LOD triangles looked at
     std::size_t prisms = 0;      // wedges emitted
     std::size_t empty = 0;       // triangles with no thickness (no prism)
+    std::size_t culled = 0;      // triangles whose prism lies outside the view (not built)
     std::size_t points = 0;
 };
 
@@ -50,6 +52,19 @@ struct LayerPrismStats {
 // LayerDensity::Noise without a generator or a non-finite density.
 fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& options = {},
                                 LayerPrismStats* stats = nullptr);
+
+// The same, frame after frame without allocating: builds into `out` reusing its storage and the
+// builder's scratch (no allocation once both have grown to the meshes' size). With `view`, only
+// the prisms whose box meets that view volume are built (a conservative test: everything the
+// camera sees is there; LayerPrismStats::culled counts the others).
+class LayerPrismBuilder {
+public:
+    void build(const LodMesh& mesh, const LayerPrismOptions& options, fx::CellMesh& out, LayerPrismStats* stats = nullptr,
+               const fx::Frustum* view = nullptr);
+
+private:
+    std::vector<std::uint32_t> bottom_; // LOD vertex → its bottom point in `out`
+};
 
 // A valley fog map: the fog fills the ground up to `level` (+ `modulation(x, y)` when given,
 // e.g. 2-D noise), thickness = clamp(level + modulation − ground, 0, max_thickness). With

@@ -6,8 +6,10 @@
 // height field (fog_layer.hpp), the aurora the same stack hung from a ceiling (aurora.hpp).
 //
 // Both are view-dependent: update() refines their LOD for the camera (TerrainLod: nothing for
-// the view of the previous frame, e.g. a camera that only turns) and rebuilds the prisms only
-// when the LOD mesh changed; otherwise it reports no change and the renderer uploads nothing.
+// the view of the previous frame, e.g. a camera that only turns) and builds the prisms of the
+// triangles in the view volume widened by a few degrees (culled to the frustum, into the same
+// storage every frame) when the LOD mesh changed or the camera turned out of that volume;
+// otherwise it reports no change and the renderer uploads nothing.
 // They live in world coordinates (transform() is the identity).
 #pragma once
 
@@ -21,6 +23,20 @@
 #include "terrain/terrain_lod.hpp"
 
 namespace terrain {
+
+// The view volume prisms were culled to: the camera's, widened by a few degrees every way, so a
+// camera that turns a little (or moves without changing the LOD) keeps its prisms.
+class CulledView {
+public:
+    void set(const fx::EffectView& view);
+    bool covers(const fx::EffectView& view) const; // its view volume lies inside the widened one
+    const fx::Frustum& frustum() const { return frustum_; }
+
+private:
+    bool built_ = false;
+    fx::EffectView view_;
+    fx::Frustum frustum_{fx::Camera{}, 1.0};
+};
 
 struct LayerEffectSettings {
     double pixel_error = 2.0;         // the LOD's screen-space error bound (LodView::pixel_error)
@@ -37,7 +53,8 @@ public:
     GroundFog(std::shared_ptr<TerrainLod> lod, const HeightField& thickness, const LayerPrismOptions& prisms,
               const LayerEffectSettings& settings = {});
 
-    const char* type_name() const override { return "ground_fog"; }
+    static constexpr const char* kTypeName = "ground_fog"; // type_name(): cellfx::Module::effect<E>() compares it
+    const char* type_name() const override { return kTypeName; }
     fx::ScalarRange scalar_range() const override { return range_; }
 
     const LayerPrismStats& prism_stats() const { return prism_stats_; } // of the current mesh
@@ -55,6 +72,8 @@ private:
     fx::Bounds bounds_;
     fx::ScalarRange range_;
     std::uint64_t built_version_ = 0;
+    CulledView culled_;
+    LayerPrismBuilder builder_;
     LayerPrismStats prism_stats_;
     LodStats lod_stats_;
 };
@@ -67,7 +86,8 @@ public:
     // Throws like ContinuousLod's constructor.
     explicit Aurora(const AuroraLayer& layer, const LodSettings& lod = {}, const LayerEffectSettings& settings = {});
 
-    const char* type_name() const override { return "aurora"; }
+    static constexpr const char* kTypeName = "aurora"; // type_name(): cellfx::Module::effect<E>() compares it
+    const char* type_name() const override { return kTypeName; }
     fx::ScalarRange scalar_range() const override { return {0.0f, 1.0f}; }
 
     const LayerPrismStats& prism_stats() const { return prism_stats_; }
@@ -84,6 +104,8 @@ private:
     LayerPrismOptions prisms_;
     fx::Bounds bounds_;
     std::uint64_t built_version_ = 0;
+    CulledView culled_;
+    LayerPrismBuilder builder_;
     LayerPrismStats prism_stats_;
     LodStats lod_stats_;
 };

@@ -85,7 +85,8 @@ HeightGenerator make_noise_generator(const NoiseSpec& spec);
 struct FogSpec {
     HeightField thickness;            // on the ground's grid
     LayerPrismOptions prisms;
-    fx::TransferFunction transfer_function;
+    fx::TransferFunction transfer_function; // as read; drawn with its sigma × extinction_scale
+    double extinction_scale = 1.0;
     fx::RenderPath path = fx::RenderPath::PcpExact;
     bool absorb = true;               // pcp-exact: fog dims what is behind it
     bool enabled = true;              // false: declared but neither built nor drawn (until enabled)
@@ -94,11 +95,18 @@ struct FogSpec {
 struct AuroraSpec {
     AuroraLayer layer;                // lower border and depth, on the aurora's own grid
     double ceiling = 0.0;
-    fx::TransferFunction transfer_function;
+    fx::TransferFunction transfer_function; // as read; drawn with its sigma × extinction_scale
+    double extinction_scale = 1.0;
     fx::RenderPath path = fx::RenderPath::Mip;
     double pixel_error = 4.0;
     bool enabled = true;
 };
+
+// The transfer function an effect is drawn with: `tf` with its sigma × extinction_scale, a
+// normalized one mapped once onto `range` (the effect's scalar_range()), so colours do not
+// shift as the frame's scalars (LOD, noise) vary. Throws fx::Error for a negative or
+// non-finite scale.
+fx::TransferFunction drawn_transfer_function(const fx::TransferFunction& tf, double extinction_scale, fx::ScalarRange range);
 
 // A free-standing effect the scene calls for (one entry of "effects").
 using EffectParams = std::variant<fx::CampfireParams, fx::SearchLightParams, fx::LaserConeParams>;
@@ -109,8 +117,9 @@ std::unique_ptr<fx::Effect> make_effect(const EffectParams& params);
 struct EffectSpec {
     std::string name;                       // unique within the scene
     EffectParams params;
-    fx::TransferFunction transfer_function; // extinction scaled; normalized ones are mapped onto
-                                            // the effect's scalar_range()
+    fx::TransferFunction transfer_function; // as read (normalized ones are mapped onto the
+                                            // effect's scalar_range()); drawn with sigma × extinction_scale
+    double extinction_scale = 1.0;          // ≥ 0
     fx::RenderPath path = fx::RenderPath::PcpExact;
     bool absorb = false;                    // pcp-exact: also dims what is behind it
     bool enabled = true;

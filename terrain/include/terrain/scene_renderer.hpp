@@ -14,7 +14,9 @@
 //        only what changed (a static effect nothing after its first frame, a campfire re-samples
 //        its own grid's noise only when its time advanced, a moving search light only moves).
 //   render(target)
-//     4. the terrain surface (if the scene draws it), depth-tested against the game's depth;
+//     4. the game's depth, in whatever convention Target::depth describes, turned into cellfx's
+//        own (DepthConvention); the terrain surface (if the scene draws it), depth-tested
+//        against it;
 //     5. per simulated effect: what update() changed is uploaded (mesh: CellRenderer::set_mesh,
 //        scalars only: set_scalars, pose only: nothing — the camera is moved into the effect's
 //        frame), then drawn with its render path, stopped by the scene depth (the game's depth
@@ -25,8 +27,9 @@
 //
 // Ownership: owns the effects, LODs, meshes and GL objects (move-only; destroy it while its
 // context is current). Preconditions: a GL 4.5 core context current for the constructor and
-// every call that draws. Every GL state it changes is restored (fx::gl::StateGuard; it binds
-// texture units 0–3 only, which the guard saves).
+// every call that draws. Every GL state it changes is restored: one fx::gl::StateGuard per
+// frame around everything render() draws (it binds texture units 0–3 only; the guard saves every
+// target of units 0–7).
 #pragma once
 
 #include <memory>
@@ -38,6 +41,7 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/effect.hpp"
 #include "fx/image.hpp"
+#include "fx/parallel_for.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
@@ -77,6 +81,9 @@ struct FrameStats {
     double time = 0.0;        // scene clock at this frame (s)
     double update_ms = 0.0;   // update(): LOD and effect simulation
     double render_ms = 0.0;   // render(): uploads, GL commands (to glFinish when timed)
+    // CPU time the calling thread spent in update() and render(): cellfx's own work and the GL
+    // driver's work on that thread, not the time spent waiting for the GPU (thread CPU clock).
+    double update_cpu_ms = 0.0, render_cpu_ms = 0.0;
     double gpu_ms = -1.0;     // GPU time of the whole render when timing is on (sum of the stages)
     double surface_gpu_ms = -1.0, composite_gpu_ms = -1.0;
     std::size_t cells_drawn = 0;   // all effects
@@ -98,17 +105,41 @@ struct FrameStats {
     std::string summary() const;
 };
 
+// How the game wrote its depth texture: every common set-up.
+//   standard    GL's defaults: near → 0, far → 1, GL_LESS, cleared to 1 (with the default clip
+//               control, or glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) and a projection that
+//               maps near → 0: the same window depth, more precision);
+//   reversed    reversed-Z: near → 1, far → 0 — glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), a
+//               reversed projection, GL_GREATER (or GEQUAL), cleared to 0.
+// The projection's own planes may differ from the camera given to update() (0: the camera's), and
+// its far plane may be infinite (an infinite reversed-Z projection: depth = near / z). Any GL
+// depth format of a GL_TEXTURE_2D, or a GL_TEXTURE_2D_MULTISAMPLE (resolved to the nearest of
+// its samples, so nothing behind the game's geometry shows on its edge pixels). GL's default
+// depth range [0, 1] is assumed. cellfx turns it into its own depth once per frame
+// (DepthNormalizer) and draws under GL's default clip control whatever the game has set.
+struct DepthConvention {
+    bool reversed = false;
+    double near_distance = 0.0; // 0: the camera's
+    double far_distance = 0.0;  // 0: the camera's; may be infinite (perspective)
+};
+
 // Where render() draws: the game's framebuffer, the viewport in it, and its depth.
 struct Target {
+    Target() = default;
+    Target(unsigned int framebuffer_name, const fx::Viewport& pixels, unsigned int depth_texture_name = 0,
+           const DepthConvention& depth_convention = {})
+        : framebuffer(framebuffer_name), viewport(pixels), depth_texture(depth_texture_name), depth(depth_convention) {}
+
     unsigned int framebuffer = 0;   // GL framebuffer name (0: the default framebuffer)
     fx::Viewport viewport;          // pixels of that framebuffer to draw over
-    // The game's depth (a GL_TEXTURE_2D name, 0: none): window depth in [0, 1] written with the
-    // camera given to update() — its projection_matrix(viewport aspect), GL's default depth
-    // range and clip control — texel (viewport.x + i, viewport.y + j) for pixel (i, j); compare
-    // mode NONE when the scene does not draw the terrain (then it is sampled directly). Fog and
-    // fire stop at it; the terrain surface is depth-tested against it. It may be attached to
-    // `framebuffer` (cellfx reads it only while drawing into its own targets) and is not written.
+    // The game's depth (a GL_TEXTURE_2D or GL_TEXTURE_2D_MULTISAMPLE name, 0: none), written with
+    // the camera given to update() (its view; its projection as `depth` says): texel
+    // (viewport.x + i, viewport.y + j) for pixel (i, j). Fog and fire stop at it; the terrain
+    // surface is depth-tested against it. It may be attached to `framebuffer` (cellfx reads it
+    // only while drawing into its own targets) and is not written. A texture cellfx cannot read
+    // (not 2D, not a depth format, smaller than the viewport) makes render() throw, naming it.
     unsigned int depth_texture = 0;
+    DepthConvention depth;
 };
 
 class SceneRenderer {
@@ -127,7 +158,7 @@ public:
     void update(double dt, const fx::Camera& camera, int width, int height);
     // Draws the last update()'s frame over the game's frame (header comment). Throws fx::Error
     // before the first update() or for a viewport of another size than update() was given.
-    FrameStats render(const Target& target);
+    const FrameStats& render(const Target& target);
     // The last frame's statistics (update part only until render()).
     const FrameStats& stats() const;
 
@@ -135,7 +166,7 @@ public:
     // background ---------------------------------------------------------------------------
     // Into `viewport` of the bound draw framebuffer. `finish` waits for the GPU (glFinish) so
     // that draw_ms and frame_ms measure the frame.
-    FrameStats render(const fx::Camera& camera, const fx::Viewport& viewport, bool finish = false);
+    const FrameStats& render(const fx::Camera& camera, const fx::Viewport& viewport, bool finish = false);
     // The same frame read back: premultiplied RGBA floats, alpha 1, bottom row first.
     fx::Image render_to_image(const fx::Camera& camera, int width, int height, FrameStats* stats = nullptr);
 
@@ -149,8 +180,25 @@ public:
     fx::RenderPath path(const std::string& name) const;
     // The live effect (move a search light with set_pose, attach it with set_parent_transform).
     fx::Effect& effect(const std::string& name);
+    fx::Effect* find_effect(const std::string& name) noexcept; // nullptr for an unknown name
+
+    // --- effects at run time: each change costs what it changes (a colour re-uploads the
+    // tables, a shape rebuilds that effect's mesh at the next update) and keeps scene() equal to
+    // what is drawn. Each throws fx::Error naming the effect and what is wrong, and then
+    // changes nothing. ---------------------------------------------------------------------
+    // Adds an effect (built when first in view). Its name must be new (not "fog" or "aurora").
+    void add_effect(const EffectSpec& spec);
+    // Removes an effect of scene.effects with its GL objects (the context must be current).
+    void remove_effect(const std::string& name);
+    // New parameters for an effect of scene.effects; another type (a campfire's name given
+    // search light parameters) replaces the effect, keeping its parent transform.
+    void set_params(const std::string& name, const EffectParams& params);
     // Replaces an effect's transfer function (normalized ones mapped onto its scalar_range()).
     void set_transfer_function(const std::string& name, const fx::TransferFunction& tf);
+    // Multiplies the transfer function's extinction (≥ 0, finite).
+    void set_extinction_scale(const std::string& name, double scale);
+    // pcp-exact: the effect also dims what is behind it (not for the aurora).
+    void set_absorb(const std::string& name, bool absorb);
 
     // Whether cellfx draws the terrain surface (scene.draw_terrain to start with).
     void set_terrain_drawn(bool drawn);
@@ -160,6 +208,10 @@ public:
     // GPU timing of every stage (GL_TIME_ELAPSED queries, waiting for each result: for
     // benchmarks, not games; none of the host's timer queries may be active then).
     void set_timing(bool timing);
+    bool timing() const;
+    // The host's job system for the CPU work of update() (effects simulated side by side);
+    // none (the default): on the calling thread.
+    void set_parallel_for(const fx::ParallelFor& parallel_for);
     double time() const;
     void set_time(double seconds); // the clock, e.g. for a camera path; throws for non-finite
 

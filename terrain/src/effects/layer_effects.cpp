@@ -2,8 +2,12 @@
 #include "terrain/layer_effects.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
 
@@ -43,6 +47,61 @@ double max_density(const HeightField& thickness, const LayerPrismOptions& prisms
     return 1.0;
 }
 
+// How far the camera may turn (every way) before the prisms culled for its view are built again.
+constexpr double kGuardDegrees = 6.0;
+
+double aspect_of(const fx::EffectView& v) { return double(v.viewport_width) / double(v.viewport_height); }
+
+// The corners of the camera's view volume (perspective: near and far rectangles).
+std::array<glm::dvec3, 8> frustum_corners(const fx::Camera& c, double aspect) {
+    const glm::dvec3 f = c.forward(), r = glm::normalize(glm::cross(f, c.up)), u = glm::cross(r, f);
+    const double ty = std::tan(glm::radians(c.fov_y_degrees) / 2.0), tx = ty * aspect;
+    std::array<glm::dvec3, 8> corners;
+    for (int k = 0; k < 8; ++k) {
+        const double d = (k & 4) ? c.far_distance : c.near_distance;
+        corners[std::size_t(k)] = c.eye + d * (f + ((k & 1) ? tx : -tx) * r + ((k & 2) ? ty : -ty) * u);
+    }
+    return corners;
+}
+
+} // namespace
+
+void CulledView::set(const fx::EffectView& view) {
+    const fx::Camera& c = view.camera;
+    fx::Camera wide = c;
+    double aspect = aspect_of(view);
+    if (!c.orthographic()) {
+        // Every half-angle widened by the guard; nearer near and farther far planes, so that the
+        // camera's own volume lies inside while it turns by less than the guard.
+        const double hy = glm::radians(c.fov_y_degrees) / 2.0, hx = std::atan(std::tan(hy) * aspect);
+        const double g = glm::radians(kGuardDegrees);
+        const double wy = std::min(hy + g, glm::radians(85.0)), wx = std::min(hx + g, glm::radians(85.0));
+        wide.fov_y_degrees = glm::degrees(2.0 * wy);
+        aspect = std::tan(wx) / std::tan(wy);
+        wide.near_distance = 0.5 * c.near_distance;
+        wide.far_distance = 2.0 * c.far_distance;
+    }
+    view_ = view;
+    frustum_ = fx::Frustum(wide, aspect);
+    built_ = true;
+}
+
+bool CulledView::covers(const fx::EffectView& view) const {
+    if (!built_ || view.viewport_width != view_.viewport_width || view.viewport_height != view_.viewport_height) return false;
+    const fx::Camera &a = view.camera, &b = view_.camera;
+    if (a.orthographic() || b.orthographic())
+        return a.eye == b.eye && a.target == b.target && a.up == b.up && a.ortho_height == b.ortho_height &&
+               a.near_distance == b.near_distance && a.far_distance == b.far_distance;
+    if (a.fov_y_degrees != b.fov_y_degrees || a.near_distance != b.near_distance || a.far_distance != b.far_distance)
+        return false;
+    for (const glm::dvec3& p : frustum_corners(a, aspect_of(view)))
+        for (const glm::dvec4& plane : frustum_.planes)
+            if (plane.x * p.x + plane.y * p.y + plane.z * p.z + plane.w < 0.0) return false;
+    return true;
+}
+
+namespace {
+
 fx::ScalarRange positive_range(double hi) {
     // A range of width 0 cannot carry a transfer function: keep a sliver.
     return {0.0f, float(std::max(hi, 1e-6))};
@@ -65,8 +124,9 @@ fx::EffectChanges GroundFog::simulate(const fx::EffectView& view) {
     lod_->update(LodView::from_camera(view.camera, view.viewport_height, settings_.pixel_error, settings_.triangle_budget),
                  &lod_stats_);
     fx::EffectChanges changes;
-    if (lod_->version() != built_version_) {
-        mesh_ = build_layer_prisms(lod_->mesh(), prisms_, &prism_stats_);
+    if (lod_->version() != built_version_ || !culled_.covers(view)) {
+        culled_.set(view);
+        builder_.build(lod_->mesh(), prisms_, mesh_, &prism_stats_, &culled_.frustum());
         built_version_ = lod_->version();
         count_build();
         // Noise density samples the generator once per LOD vertex that carries a prism.
@@ -87,8 +147,9 @@ fx::EffectChanges Aurora::simulate(const fx::EffectView& view) {
     lod_.update(LodView::from_camera(view.camera, view.viewport_height, settings_.pixel_error, settings_.triangle_budget),
                 &lod_stats_);
     fx::EffectChanges changes;
-    if (lod_.version() != built_version_) {
-        mesh_ = build_layer_prisms(lod_.mesh(), prisms_, &prism_stats_);
+    if (lod_.version() != built_version_ || !culled_.covers(view)) {
+        culled_.set(view);
+        builder_.build(lod_.mesh(), prisms_, mesh_, &prism_stats_, &culled_.frustum());
         built_version_ = lod_.version();
         count_build();
         changes.mesh = true;

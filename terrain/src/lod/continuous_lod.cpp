@@ -10,7 +10,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <queue>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -39,6 +38,29 @@ struct Wake {
     std::uint32_t node;
     std::uint32_t generation; // stale entries (rescheduled or removed nodes) are skipped
     bool operator>(const Wake& o) const { return at > o.at; }
+};
+
+// A min-heap of wake-ups on a vector whose storage is kept: cleared and compacted in place, so a
+// steady frame allocates nothing for it.
+struct WakeHeap {
+    std::vector<Wake> items;
+    bool empty() const { return items.empty(); }
+    std::size_t size() const { return items.size(); }
+    const Wake& top() const { return items.front(); }
+    void push(const Wake& w) {
+        items.push_back(w);
+        std::push_heap(items.begin(), items.end(), std::greater<Wake>());
+    }
+    void pop() {
+        std::pop_heap(items.begin(), items.end(), std::greater<Wake>());
+        items.pop_back();
+    }
+    void clear() { items.clear(); }
+    template <class Stale>
+    void remove_if(Stale stale) {
+        items.erase(std::remove_if(items.begin(), items.end(), stale), items.end());
+        std::make_heap(items.begin(), items.end(), std::greater<Wake>());
+    }
 };
 
 // One leaf's triangle fan: its centre and the ring of corners and included edge midpoints,
@@ -96,7 +118,7 @@ struct ContinuousLod::Impl {
     std::vector<Fan> fans;
     std::size_t triangles = 0;
     std::size_t live = 0;
-    std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>> wakes;
+    WakeHeap wakes;
     std::vector<std::uint32_t> morphing, next_morphing;
     std::array<std::vector<std::uint32_t>, kLevels> candidates, vertex_dirty;
     std::vector<std::uint32_t> fan_dirty, touched;
@@ -348,7 +370,7 @@ struct ContinuousLod::Impl {
 
     void rebuild() {
         remove(root, root_h);
-        std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>().swap(wakes);
+        wakes.clear();
         morphing.clear();
         next_morphing.clear();
         odometer = 0.0;
@@ -384,16 +406,8 @@ struct ContinuousLod::Impl {
             candidates[l].clear();
         }
         // Stale heap entries pile up when nodes are rescheduled often: compact now and then.
-        if (wakes.size() > 4 * live + 1024) {
-            std::vector<Wake> keep;
-            while (!wakes.empty()) {
-                const Wake w = wakes.top();
-                wakes.pop();
-                if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive)) keep.push_back(w);
-            }
-            wakes = std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>(std::greater<Wake>(),
-                                                                                      std::move(keep));
-        }
+        if (wakes.size() > 4 * live + 1024)
+            wakes.remove_if([&](const Wake& w) { return w.generation != nodes[w.node].generation || !(nodes[w.node].state & kLive); });
         finish_update();
     }
 
@@ -552,7 +566,7 @@ void ContinuousLod::reset() {
     for (std::uint32_t s : m.touched) m.nodes[s].flags = 0;
     m.touched.clear();
     for (auto& v : m.vertex_dirty) v.clear();
-    std::priority_queue<Wake, std::vector<Wake>, std::greater<Wake>>().swap(m.wakes);
+    m.wakes.clear();
     m.morphing.clear();
     for (Impl::Vertex& v : m.verts) v.h = v.true_h, v.t = v.true_t;
     m.have_state = false;
@@ -562,7 +576,16 @@ void ContinuousLod::reset() {
 void ContinuousLod::extract(LodMesh& out) const {
     const Impl& m = *impl_;
     out.clear();
-    out.triangles.reserve(m.triangles);
+    // Room to spare, so that a mesh growing by a few triangles from frame to frame does not
+    // reallocate every time (a steady frame allocates nothing). A fan mesh has at most about
+    // one vertex per two triangles, plus the border.
+    const std::size_t vertices = m.triangles / 2 + 4 * std::size_t(m.n);
+    if (out.triangles.capacity() < m.triangles) out.triangles.reserve(m.triangles + m.triangles / 4);
+    if (out.positions.capacity() < vertices) {
+        out.positions.reserve(vertices + vertices / 4);
+        out.thickness.reserve(vertices + vertices / 4);
+        out.grid_index.reserve(vertices + vertices / 4);
+    }
     auto local = [&](std::uint32_t s) {
         Impl::Vertex& vertex = m.verts[s];
         if (vertex.local == std::numeric_limits<std::uint32_t>::max()) {

@@ -14,17 +14,32 @@
 namespace terrain {
 
 fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& options, LayerPrismStats* stats) {
+    fx::CellMesh out;
+    LayerPrismBuilder().build(mesh, options, out, stats);
+    return out;
+}
+
+void LayerPrismBuilder::build(const LodMesh& mesh, const LayerPrismOptions& options, fx::CellMesh& out,
+                              LayerPrismStats* stats, const fx::Frustum* view) {
     if (options.density == LayerDensity::Noise && !options.noise)
         throw fx::Error("layer prisms: noise density needs a noise generator");
     if (!std::isfinite(options.density_scale)) throw fx::Error("layer prisms: density scale is not finite");
     LayerPrismStats s;
-    fx::CellMesh out;
-    out.scalars.push_back({options.scalar_name, {}});
+    // Emptied, capacity kept: one field, one block named "layer".
+    out.points.clear();
+    out.cell_types.clear();
+    out.cell_offsets.assign(1, 0u);
+    out.connectivity.clear();
+    out.scalars.resize(1);
+    if (out.scalars[0].name != options.scalar_name) out.scalars[0].name = options.scalar_name;
+    out.scalars[0].values.clear();
     std::vector<float>& density = out.scalars[0].values;
-    out.begin_block("layer");
+    out.blocks.resize(1);
+    if (out.blocks[0].name != "layer") out.blocks[0].name = "layer";
+    out.blocks[0].first_cell = 0, out.blocks[0].cell_count = 0, out.blocks[0].dims = {0, 0, 0};
 
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-    std::vector<std::uint32_t> bottom(mesh.positions.size(), kNone); // LOD vertex → point id
+    bottom_.assign(mesh.positions.size(), kNone);
     auto noise_at = [&](const glm::dvec3& p) {
         const double v = options.noise(p.x, p.y);
         if (!std::isfinite(v))
@@ -34,7 +49,7 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
     };
     // Bottom and top point of a LOD vertex, made on first use; top = bottom + 1.
     auto points_of = [&](std::uint32_t v) {
-        if (bottom[v] != kNone) return bottom[v];
+        if (bottom_[v] != kNone) return bottom_[v];
         const glm::dvec3 p = mesh.positions[v];
         const double t = std::max(double(mesh.thickness[v]), 0.0);
         double lo = 0.0, hi = 0.0;
@@ -43,12 +58,12 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
         case LayerDensity::Noise: lo = hi = options.density_scale * noise_at(p); break;
         case LayerDensity::LowerBorder: lo = options.density_scale, hi = 0.0; break;
         }
-        bottom[v] = std::uint32_t(out.points.size());
+        bottom_[v] = std::uint32_t(out.points.size());
         out.points.push_back(p);
         out.points.push_back(p + glm::dvec3(0.0, 0.0, t));
         density.push_back(float(lo));
         density.push_back(float(hi));
-        return bottom[v];
+        return bottom_[v];
     };
 
     for (const auto& tri : mesh.triangles) {
@@ -60,6 +75,14 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
             ++s.empty;
             continue;
         }
+        if (view) {
+            const glm::dvec3 lo = glm::min(glm::min(a, b), c);
+            const double top = std::max({a.z + std::max(ta, 0.0), b.z + std::max(tb, 0.0), c.z + std::max(tc, 0.0)});
+            if (!view->intersects(fx::Bounds{lo, glm::dvec3(std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), top)})) {
+                ++s.culled;
+                continue;
+            }
+        }
         // LOD triangles wind counter-clockwise from above; VTK's base (0, 1, 2) must face down.
         const std::uint32_t pa = points_of(tri[0]), pb = points_of(tri[1]), pc = points_of(tri[2]);
         const std::uint32_t wedge[6] = {pa, pc, pb, pa + 1, pc + 1, pb + 1};
@@ -68,7 +91,6 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
     }
     s.points = out.points.size();
     if (stats) *stats = s;
-    return out;
 }
 
 HeightField make_valley_fog_map(const HeightField& ground, double level, double max_thickness,

@@ -160,17 +160,17 @@ fx::RenderPath parse_path(Section& s, const std::string& key, fx::RenderPath fal
 
 fx::TransferFunction load_transfer_function(Section& s, const std::string& base_dir) {
     const std::string file = resolve(base_dir, s.string("transfer_function"));
-    fx::TransferFunction tf;
     try {
-        tf = fx::TransferFunction::read_json(file);
+        return fx::TransferFunction::read_json(file);
     } catch (const fx::Error& e) {
         throw s.error("transfer_function", e.what());
     }
+}
+
+double parse_extinction_scale(Section& s) {
     const double k = s.number("extinction_scale", 1.0);
     if (k < 0.0) throw s.error("extinction_scale", "must not be negative");
-    std::vector<fx::TransferPoint> points = tf.points();
-    for (fx::TransferPoint& p : points) p.sigma *= k;
-    return fx::TransferFunction(std::move(points), tf.normalized());
+    return k;
 }
 
 HeightField load_height_map(Section& s, const std::string& key, Section& options_from, const std::string& base_dir,
@@ -250,6 +250,7 @@ FogSpec parse_fog(Section s, const HeightField& ground, const std::string& base_
     }
     fog.prisms.density_scale = s.positive("density_scale", 1.0);
     fog.transfer_function = load_transfer_function(s, base_dir);
+    fog.extinction_scale = parse_extinction_scale(s);
     fog.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     fog.absorb = s.boolean("absorb", true);
     fog.enabled = s.boolean("enabled", true);
@@ -278,6 +279,7 @@ AuroraSpec parse_aurora(Section s, const std::string& base_dir) {
     }
     a.layer = make_aurora_layer(make_aurora_depth(int(size), spacing, origin, c), a.ceiling);
     a.transfer_function = load_transfer_function(s, base_dir);
+    a.extinction_scale = parse_extinction_scale(s);
     a.path = parse_path(s, "path", fx::RenderPath::Mip);
     a.pixel_error = s.positive("pixel_error", 4.0);
     a.enabled = s.boolean("enabled", true);
@@ -381,6 +383,7 @@ EffectSpec parse_effect(Section s, const std::string& base_dir) {
     e.path = parse_path(s, "path", fx::RenderPath::PcpExact);
     e.absorb = s.boolean("absorb", false);
     e.transfer_function = load_transfer_function(s, base_dir);
+    e.extinction_scale = parse_extinction_scale(s);
     s.finish();
     // The effect's own checks (cross-parameter rules), named by the entry.
     try {
