@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages cellfx builds and runs with. Idempotent: quiet when all are
 # present. Run as root on Debian 12 (or with sudo available).
-#   scripts/setup.sh fuzz   also installs clang and libFuzzer for scripts/fuzz.sh
-#   scripts/setup.sh vtk    also installs VTK 9.1's Python bindings for scripts/compare_vtk.sh
-#                           (conflicts with python3-paraview: both ship vtkmodules)
+#   scripts/setup.sh fuzz       also installs clang and libFuzzer for scripts/fuzz.sh
+#   scripts/setup.sh vtk        also installs VTK 9.1's Python bindings for scripts/compare_vtk.sh
+#                               (conflicts with python3-paraview: both ship vtkmodules)
+#   scripts/setup.sh paraview   also installs ParaView 5.11 with its headers, MPI and Xvfb for
+#                               the ParaView plugin (scripts/paraview.sh, docs/paraview.md;
+#                               conflicts with python3-vtk9: not with the vtk group)
 set -euo pipefail
 
 packages=(
@@ -20,13 +23,33 @@ for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev llvm-14) ;; # libFuzzer, sanitizer runtimes, llvm-symbolizer
     vtk) packages+=(python3-vtk9 python3-numpy xvfb xauth) ;; # the VTK comparison (VTK 9.1 needs an X display)
-    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz, vtk)" >&2; exit 2 ;;
+    # paraview-dev's CMake config needs python3-paraview, the MPI headers, GLEW and FreeType's
+    # headers without declaring them; python3-paraview conflicts with python3-vtk9 (both ship
+    # vtkmodules), so this group is not for a machine that has the vtk group.
+    paraview) packages+=(paraview paraview-dev python3-paraview mpi-default-dev openmpi-bin libglew-dev libfreetype-dev) ;;
+    *) echo "setup.sh: unknown package group \"$group\" (known: fuzz, vtk, paraview)" >&2; exit 2 ;;
   esac
+done
+
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+
+# python3-paraview and python3-vtk9 both ship vtkmodules: stop rather than let apt remove one.
+for group in "$@"; do
+  if [ "$group" = paraview ] && installed python3-vtk9; then
+    echo "setup.sh: the paraview group needs python3-paraview, which conflicts with the installed python3-vtk9" \
+      "(the vtk group); use a machine or container without it" >&2
+    exit 1
+  fi
+  if [ "$group" = vtk ] && installed python3-paraview; then
+    echo "setup.sh: the vtk group needs python3-vtk9, which conflicts with the installed python3-paraview" \
+      "(the paraview group); use a machine or container without it" >&2
+    exit 1
+  fi
 done
 
 missing=()
 for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  installed "$p" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
 

@@ -2,11 +2,20 @@
 
 #include <cstdio>
 
+#include <cmath>
+
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "fx/camera.hpp"
+#include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
 #include "fx/image.hpp"
+#include "fx/scanline_renderer.hpp"
+#include "gl/render_target.hpp"
+#include "gl/state_guard.hpp"
+#include "gl_fixture.hpp"
+#include "mesh_builders.hpp"
 #include "test_paths.hpp"
 
 TEST_CASE("camera spec parses every key and rejects bad ones", "[camera]") {
@@ -71,6 +80,120 @@ TEST_CASE("pixel rays go through the pixel centres the projection matrix maps th
             CHECK((clip.y / clip.w + 1.0) * 0.5 * h == Approx(py).margin(1e-9));
         }
     }
+}
+
+namespace {
+
+// The projection of tile (i, j) of an n × n split of the image `full` projects: the same
+// frustum, its NDC square [-1 + 2i/n, -1 + 2(i+1)/n] × ... stretched to [-1, 1]² (what VTK's
+// tiled rendering and off-axis window centres give).
+glm::dmat4 tile_projection(const glm::dmat4& full, int n, int i, int j) {
+    glm::dmat4 t(1.0);
+    t[0][0] = t[1][1] = n;
+    t[3][0] = -(2.0 * i + 1.0 - n);
+    t[3][1] = -(2.0 * j + 1.0 - n);
+    return t * full;
+}
+
+} // namespace
+
+TEST_CASE("a camera from a host's matrices describes the same view, off-axis ones included", "[camera]") {
+    fx::Camera cam = fx::Camera::parse("eye=3,-2,5,target=0,1,0,up=0,0,1,fov=50,near=0.3,far=40");
+    for (bool ortho : {false, true}) {
+        if (ortho) cam.ortho_height = 3.0;
+        const glm::dmat4 full = cam.projection_matrix(1.5);
+        for (int tile : {-1, 3}) { // the whole view, then an off-axis quarter
+            const glm::dmat4 p = tile < 0 ? full : tile_projection(full, 2, tile % 2, tile / 2);
+            const fx::Camera c = fx::Camera::from_matrices(cam.view_matrix(), p);
+            INFO((ortho ? "orthographic" : "perspective") << ", tile " << tile);
+            CHECK(glm::length(c.eye - cam.eye) < 1e-12);
+            CHECK(glm::length(c.forward() - cam.forward()) < 1e-12);
+            CHECK(c.near_distance == Approx(0.3));
+            CHECK(c.far_distance == Approx(40.0));
+            CHECK(c.orthographic() == ortho);
+            CHECK(c.projection_matrix(0.25) == p); // its own matrix, whatever the aspect
+            const glm::dmat4 v = c.view_matrix();
+            for (int col = 0; col < 4; ++col) CHECK(glm::length(v[col] - cam.view_matrix()[col]) < 1e-12);
+            // Pixel rays go through the pixel centres the explicit matrix maps them to.
+            const glm::dmat4 vp = p * v;
+            const int w = 40, h = 30;
+            for (auto [px, py] : {std::pair{0.5, 0.5}, {39.5, 10.5}, {20.5, 29.5}}) {
+                const fx::Ray ray = c.pixel_ray(px, py, w, h);
+                CHECK(glm::length(ray.direction) == Approx(1.0));
+                const glm::dvec4 clip = vp * glm::dvec4(ray.origin + 2.0 * ray.direction, 1.0);
+                CHECK((clip.x / clip.w + 1.0) * 0.5 * w == Approx(px).margin(1e-9));
+                CHECK((clip.y / clip.w + 1.0) * 0.5 * h == Approx(py).margin(1e-9));
+            }
+        }
+        if (!ortho) CHECK(fx::Camera::from_matrices(cam.view_matrix(), full).fov_y_degrees == Approx(50.0));
+        if (ortho) CHECK(fx::Camera::from_matrices(cam.view_matrix(), full).ortho_height == Approx(3.0));
+    }
+}
+
+TEST_CASE("a camera from matrices rejects what it cannot describe, and the scan-line renderer rejects it", "[camera]") {
+    const fx::Camera cam = fx::Camera::parse("eye=3,-2,5,target=0,1,0,up=0,0,1,fov=50");
+    const glm::dmat4 p = cam.projection_matrix(1.0);
+    CHECK_THROWS_WITH(fx::Camera::from_matrices(glm::scale(cam.view_matrix(), glm::dvec3(2.0)), p),
+                      Catch::Contains("not a rigid motion"));
+    glm::dmat4 sheared = p;
+    sheared[1][0] = 0.3;
+    CHECK_THROWS_WITH(fx::Camera::from_matrices(cam.view_matrix(), sheared), Catch::Contains("neither a perspective"));
+    glm::dmat4 behind = p;
+    behind[3][2] = -behind[3][2]; // near and far behind the eye
+    CHECK_THROWS_WITH(fx::Camera::from_matrices(cam.view_matrix(), behind), Catch::Contains("0 < near < far"));
+    glm::dmat4 nan = p;
+    nan[0][0] = std::nan("");
+    CHECK_THROWS_WITH(fx::Camera::from_matrices(cam.view_matrix(), nan), Catch::Contains("not finite"));
+
+    fx::CellMesh mesh = fx_test::hex_box(1, 1, 1);
+    mesh.scalars.push_back({"s", std::vector<float>(mesh.point_count(), 1.0f)});
+    const fx::Camera explicit_cam = fx::Camera::from_matrices(cam.view_matrix(), p);
+    CHECK_THROWS_WITH(fx::ScanlineRenderer(mesh).render(explicit_cam, 8, 8, mesh.scalars[0],
+                                                         fx::TransferFunction::constant(glm::dvec3(1.0), 1.0)),
+                      Catch::Contains("explicit projection"));
+}
+
+TEST_CASE("every GPU path draws off-axis tiles that assemble into the frame drawn whole", "[gl][camera]") {
+    // How VTK renders a screenshot larger than its window (and ParaView a tile display): each
+    // tile with the frustum's off-axis part, into its own viewport. The tiles' pixels are the
+    // whole frame's pixels (same rays), so only float rounding may differ.
+    fx_test::gl_context();
+    fx::CellMesh mesh = fx_test::mixed_box_with_tets(4);
+    std::vector<float> values;
+    for (const glm::dvec3& p : mesh.points) values.push_back(float(p.x + 2.0 * p.y * p.y + 0.5 * p.z));
+    mesh.scalars.push_back({"s", values});
+    const fx::TransferFunction tf({{0.0, {0.1, 0.3, 1.0}, 0.5}, {1.5, {1.0, 0.9, 0.2}, 3.0}, {3.5, {1.0, 0.1, 0.1}, 1.0}});
+    fx::CellRenderer renderer(mesh, "s", tf);
+    const fx::Camera cam = fx::Camera::parse("eye=2.2,-1.4,1.9,target=0.5,0.5,0.5,up=0,0,1,fov=40,near=0.1,far=20");
+    const int w = 64, h = 48, n = 2;
+    for (fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::Mip, fx::RenderPath::Absorption,
+                                fx::RenderPath::AbsorptionExact}) {
+        const fx::Image whole = renderer.render_to_image(cam, w, h, path);
+        const fx::gl::RenderTarget target = fx::gl::RenderTarget::create(w, h, fx::gl::ColorFormat::RGBA32F, false);
+        {
+            fx::gl::StateGuard guard;
+            fx::gl::StateGuard::set_render_defaults();
+            target.clear(glm::vec4(0.0f));
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.framebuffer());
+            for (int j = 0; j < n; ++j) {
+                for (int i = 0; i < n; ++i) {
+                    const fx::Camera tile = fx::Camera::from_matrices(
+                        cam.view_matrix(), tile_projection(cam.projection_matrix(double(w) / h), n, i, j));
+                    renderer.render(tile, {i * w / n, j * h / n, w / n, h / n}, path);
+                }
+            }
+        }
+        const fx::Image tiled = target.read();
+        float peak = 0.0f;
+        for (const glm::vec4& p : whole.pixels) peak = std::max({peak, p.r, p.g, p.b, p.a});
+        const fx_test::ImageDifference d = fx_test::compare_images(tiled, whole);
+        INFO(fx::render_path_name(path) << ": peak " << peak << ", max difference " << d.max_delta / peak
+                                        << " of peak, mean " << d.mean_delta / peak);
+        const bool ok = peak > 0.05f && d.max_delta <= 1e-4f * peak && d.mean_delta <= 1e-6 * peak;
+        if (!ok) INFO("images: " << fx_test::write_failure_images(std::string("tiles_") + fx::render_path_name(path), tiled, whole));
+        CHECK(ok);
+    }
+    fx_test::require_no_gl_error();
 }
 
 TEST_CASE("PFM round-trips float pixels bottom row first", "[image]") {

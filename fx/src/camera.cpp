@@ -9,8 +9,10 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/effect.hpp" // rigid_part
 #include "fx/error.hpp"
 
 namespace fx {
@@ -68,6 +70,7 @@ void Camera::validate(std::string_view who) const {
 }
 
 glm::dmat4 Camera::projection_matrix(double aspect) const {
+    if (projection) return *projection;
     if (orthographic()) {
         const double h = 0.5 * ortho_height;
         const double w = h * aspect;
@@ -77,6 +80,17 @@ glm::dmat4 Camera::projection_matrix(double aspect) const {
 }
 
 Ray Camera::pixel_ray(double x, double y, int width, int height) const {
+    if (projection) {
+        // The pixel's points on the near and far planes, back through both matrices.
+        const glm::dmat4 world_from_clip = glm::inverse(*projection * view_matrix());
+        const glm::dvec2 ndc(2.0 * x / width - 1.0, 2.0 * y / height - 1.0);
+        const glm::dvec4 a = world_from_clip * glm::dvec4(ndc, -1.0, 1.0);
+        const glm::dvec4 b = world_from_clip * glm::dvec4(ndc, 1.0, 1.0);
+        const glm::dvec3 near_point = glm::dvec3(a) / a.w, far_point = glm::dvec3(b) / b.w;
+        const glm::dvec3 direction = glm::normalize(far_point - near_point);
+        if (orthographic()) return Ray{near_point - direction * near_distance, direction};
+        return Ray{eye, direction};
+    }
     const glm::dvec3 f = forward();
     const glm::dvec3 r = right();
     const glm::dvec3 u = glm::cross(r, f);
@@ -152,6 +166,49 @@ Camera Camera::parse(std::string_view spec) {
     }
     flush();
     cam.validate("camera");
+    return cam;
+}
+
+Camera Camera::from_matrices(const glm::dmat4& view, const glm::dmat4& projection) {
+    const glm::dmat4 world_from_eye = glm::inverse(view);
+    const glm::dmat4 rigid = rigid_part(world_from_eye, "camera: the view matrix");
+    for (int c = 0; c < 4; ++c) {
+        if (glm::length(world_from_eye[c] - rigid[c]) > 1e-6 * std::max(1.0, glm::length(rigid[c]))) {
+            throw Error("camera: the view matrix is not a rigid motion (it scales or shears)");
+        }
+    }
+    const glm::dmat4& p = projection; // p[column][row]
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(p[c][r])) throw Error("camera: the projection matrix is not finite");
+        }
+    }
+    const bool perspective = p[2][3] == -1.0 && p[3][3] == 0.0;
+    const bool ortho = p[2][3] == 0.0 && p[3][3] == 1.0;
+    // Both forms leave x and y unmixed and z independent of x and y (no shear).
+    if ((!perspective && !ortho) || p[0][1] != 0.0 || p[0][2] != 0.0 || p[0][3] != 0.0 || p[1][0] != 0.0 ||
+        p[1][2] != 0.0 || p[1][3] != 0.0 || (ortho && (p[2][0] != 0.0 || p[2][1] != 0.0)) ||
+        (perspective && (p[3][0] != 0.0 || p[3][1] != 0.0)) || !(p[0][0] > 0.0) || !(p[1][1] > 0.0)) {
+        throw Error("camera: the projection matrix is neither a perspective frustum nor an orthographic box "
+                    "(glFrustum / glOrtho form)");
+    }
+    Camera cam;
+    cam.eye = glm::dvec3(rigid[3]);
+    cam.target = cam.eye - glm::dvec3(rigid[2]); // the eye looks down its −z
+    cam.up = glm::dvec3(rigid[1]);
+    if (perspective) {
+        cam.near_distance = p[3][2] / (p[2][2] - 1.0);
+        cam.far_distance = p[3][2] / (p[2][2] + 1.0);
+        cam.fov_y_degrees = glm::degrees(2.0 * std::atan(1.0 / p[1][1]));
+    } else {
+        cam.near_distance = (p[3][2] + 1.0) / p[2][2];
+        cam.far_distance = (p[3][2] - 1.0) / p[2][2];
+        cam.ortho_height = 2.0 / p[1][1];
+    }
+    if (!(cam.near_distance > 0.0) || !(cam.far_distance > cam.near_distance) || !std::isfinite(cam.far_distance)) {
+        throw Error("camera: the projection matrix's depth range is not 0 < near < far");
+    }
+    cam.projection = projection;
     return cam;
 }
 

@@ -7,6 +7,7 @@
 // sees what lies ahead of it).
 #pragma once
 
+#include <optional>
 #include <string_view>
 
 #include <glm/mat4x4.hpp>
@@ -27,6 +28,12 @@ struct Camera {
     double ortho_height = 0.0;   // > 0: orthographic, this many world units tall
     double near_distance = 0.01;
     double far_distance = 1.0e4;
+    // An explicit eye → clip matrix, for a host whose frustum the fields above cannot describe
+    // (off-axis, or one tile of a larger image, as VTK draws tiles). When set,
+    // projection_matrix() returns it for any aspect; the fields still describe the same view
+    // (eye, direction, near and far exactly; fov or ortho height by the frustum's height).
+    // from_matrices() sets it. The GPU paths follow it; the scan-line renderer rejects it.
+    std::optional<glm::dmat4> projection;
 
     bool orthographic() const { return ortho_height > 0.0; }
     glm::dvec3 forward() const; // unit view direction
@@ -51,6 +58,11 @@ struct Camera {
     // near=D and far=D are accepted too. Any key may be left out. Throws fx::Error naming
     // the bad key or number, or what validate() finds.
     static Camera parse(std::string_view spec);
+    // The camera of a host's GL matrices: `view` world → eye (a rigid motion), `projection`
+    // eye → clip, a perspective frustum or an orthographic box (glFrustum / glOrtho form,
+    // off-axis allowed, GL's [−1, 1] depth). Throws fx::Error naming the matrix and what is
+    // wrong for anything else (scale or shear in the view, a sheared or reversed projection).
+    static Camera from_matrices(const glm::dmat4& view, const glm::dmat4& projection);
     // A view of `lo`..`hi` from the (+x, +y, +z) diagonal that fits the whole box.
     static Camera framing(const glm::dvec3& lo, const glm::dvec3& hi, double fov_y_degrees = 40.0);
 };

@@ -901,6 +901,10 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
                 "scan-line renderer: a " + std::to_string(width) + "x" + std::to_string(height) + " image");
     check_scalar_field(mesh_, field, "scan-line renderer");
     camera.validate("scan-line renderer: camera");
+    if (camera.projection) {
+        throw Error("scan-line renderer: a camera with an explicit projection matrix (Camera::from_matrices) is "
+                    "not supported; describe it by fov or ortho height");
+    }
     if (options.clip_box && options.clip_box->empty()) throw Error("scan-line renderer: empty clip box");
     const TransferFunction tf = tf_in.normalized() ? tf_in.rescaled(scalar_range(field).lo, scalar_range(field).hi)
                                                    : tf_in;
