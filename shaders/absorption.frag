@@ -9,8 +9,8 @@
 // thickness coordinate u is scaled by it (the polygon colour is kept, an approximation).
 #include "project.glsl"
 
-layout(binding = 1) uniform sampler2D u_opacity; // R32F, size × size, u along x
-layout(location = 9) uniform int u_opacity_size;
+layout(binding = UNIT_OPACITY) uniform sampler2D u_opacity; // R32F, size × size, u along x
+layout(location = UNIFORM_OPACITY_SIZE) uniform int u_opacity_size;
 
 layout(location = 0) noperspective in vec2 v_uv;
 layout(location = 1) noperspective in vec3 v_color;

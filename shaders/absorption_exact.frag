@@ -17,9 +17,9 @@ layout(location = 1) in float v_scalar;
 layout(location = 2) flat in uvec4 v_item;
 
 // x = s_front, y = s_back (n_s samples of [s_lo, s_hi]), z = length (n_l samples of [0, max]).
-layout(binding = 2) uniform sampler3D u_preintegration;
-layout(location = 7) uniform vec3 u_preint;        // s_lo, samples per unit s, samples per unit length
-layout(location = 8) uniform ivec3 u_preint_size; // n_s, n_s, n_l
+layout(binding = UNIT_PREINTEGRATION) uniform sampler3D u_preintegration;
+layout(location = UNIFORM_PREINTEGRATION) uniform vec3 u_preint;        // s_lo, samples per unit s, samples per unit length
+layout(location = UNIFORM_PREINTEGRATION_SIZE) uniform ivec3 u_preint_size; // n_s, n_s, n_l
 
 layout(location = 0) out vec4 o_color;
 

@@ -1,7 +1,7 @@
 #version 450 core
 // Based on: Max, Williams & Silva 2000, §III–§V — exact Absorption: the cells' triangles in
 // visibility order (one draw; GL blends primitives in order), pulled by gl_VertexID.
-// frame_data (binding 3) holds one item per cell, back to front:
+// frame_data (BINDING_FRAME) holds one item per cell, back to front:
 //   (cell, 0xFFFFFFFF, 0, 0)   a whole cell of the mesh: its triangles from bindings 1–2
 //   (p0, p1, p2, p3)           a tetrahedron of a cell subdivided for this view (§V)
 // Item k owns vertices [k·u_slot_vertices, (k + 1)·u_slot_vertices): 3 per triangle, as many
@@ -10,7 +10,7 @@
 #include "project.glsl"
 #include "absorption_items.glsl"
 
-layout(location = 6) uniform int u_slot_vertices;
+layout(location = UNIFORM_SLOT_VERTICES) uniform int u_slot_vertices;
 
 layout(location = 0) out vec3 v_position; // relative frame
 layout(location = 1) out float v_scalar;

@@ -1,9 +1,8 @@
 // The items of the exact Absorption path (shaders/absorption_exact.vert): a whole cell of the
 // mesh, or a tetrahedron of a cell subdivided for this view. Needs project.glsl first.
-const uint kWholeCell = 0xFFFFFFFFu;
-// Faces of a tetrahedron wound outward, in VTK order (fx/src/cell_mesh.cpp, kTetraFaces);
-// tetrahedra from fx::subdivide_cell keep their cell's positive orientation.
-const ivec3 kTetraFaces[4] = ivec3[4](ivec3(0, 1, 3), ivec3(1, 2, 3), ivec3(2, 0, 3), ivec3(0, 2, 1));
+// kWholeCell and kTetraFaces (the faces of a tetrahedron, outward, in VTK order: tetrahedra
+// from fx::subdivide_cell keep their cell's positive orientation) come from the generated
+// projector_interface.glsl.
 
 int item_triangle_count(uvec4 item) {
     return item.y == kWholeCell ? int(cell_first_triangle[item.x + 1u] - cell_first_triangle[item.x]) : 4;

@@ -18,7 +18,7 @@ layout(location = 3) in float v_alpha;
 layout(location = 4) in vec3 v_color;
 layout(location = 5) flat in vec2 v_range; // d_min, Δd
 
-layout(location = 8) uniform int u_pass;
+layout(location = UNIFORM_PASS) uniform int u_pass;
 
 layout(location = 0) out vec4 o_color;
 

@@ -1,7 +1,8 @@
 // Based on: Roettger & Ertl 2003, §3 and §5 — the polyhedron projector's GPU half, shared by
 // the PCP, PCP-exact and MIP paths (shaders/project.vert and the three fragment shaders).
 //
-// Mesh data, uploaded once per mesh (fx/src/projector/cell_renderer.cpp):
+// Mesh data, uploaded once per mesh (fx/src/projector/gl_projector.cpp); binding numbers, units
+// and uniform locations come from the generated projector_interface.glsl (gl_interface.hpp):
 //   binding 0  points:    xyz relative to the mesh centre, w = scalar
 //   binding 1  triangles: v.xyz point ids (CCW seen from outside), v.w owning cell;
 //                         plane = outward unit normal, w = n·p (zero for a zero-area triangle)
@@ -13,29 +14,31 @@
 //   row 1: emission c·σ (rgb) and σ (a) at the same samples (MIP, classic vertex colours,
 //          and the held end values outside the table's range)
 
+#include "projector_interface.glsl"
+
 struct Triangle {
     uvec4 v;
     vec4 plane;
 };
-layout(std430, binding = 0) readonly buffer PointBuffer { vec4 points[]; };
-layout(std430, binding = 1) readonly buffer TriangleBuffer { Triangle triangles[]; };
-layout(std430, binding = 2) readonly buffer CellBuffer { uint cell_first_triangle[]; };
-layout(std430, binding = 3) readonly buffer FrameBuffer { uvec4 frame_data[]; };
+layout(std430, binding = BINDING_POINTS) readonly buffer PointBuffer { vec4 points[]; };
+layout(std430, binding = BINDING_TRIANGLES) readonly buffer TriangleBuffer { Triangle triangles[]; };
+layout(std430, binding = BINDING_CELLS) readonly buffer CellBuffer { uint cell_first_triangle[]; };
+layout(std430, binding = BINDING_FRAME) readonly buffer FrameBuffer { uvec4 frame_data[]; };
 
-layout(location = 0) uniform mat4 u_view_projection; // relative frame → clip space
-layout(location = 1) uniform vec3 u_eye;             // relative frame (orthographic: on the eye plane)
-layout(location = 2) uniform vec3 u_forward;         // unit view direction
-layout(location = 3) uniform float u_near;
-layout(location = 4) uniform int u_orthographic;
-layout(location = 5) uniform vec4 u_table;           // s_lo, s_hi, sample count, samples per unit s
+layout(location = UNIFORM_VIEW_PROJECTION) uniform mat4 u_view_projection; // relative frame → clip space
+layout(location = UNIFORM_EYE) uniform vec3 u_eye;       // relative frame (orthographic: on the eye plane)
+layout(location = UNIFORM_FORWARD) uniform vec3 u_forward; // unit view direction
+layout(location = UNIFORM_NEAR) uniform float u_near;
+layout(location = UNIFORM_ORTHOGRAPHIC) uniform int u_orthographic;
+layout(location = UNIFORM_TABLE) uniform vec4 u_table;   // s_lo, s_hi, sample count, samples per unit s
 
-layout(binding = 0) uniform sampler2D u_tables;
+layout(binding = UNIT_TABLES) uniform sampler2D u_tables;
 
-// Scene depth (CellRenderOptions::scene_depth): the host's window-space depth on unit 3.
-layout(location = 20) uniform int u_scene_depth_mode;  // 0 none, 1 perspective, 2 orthographic
-layout(location = 21) uniform vec2 u_scene_depth_range; // the projection's near and far distances
-layout(location = 22) uniform ivec2 u_scene_origin;     // viewport origin in the depth texture
-layout(binding = 3) uniform sampler2D u_scene_depth;
+// Scene depth (CellRenderOptions::scene_depth): the host's window-space depth.
+layout(location = UNIFORM_SCENE_DEPTH_MODE) uniform int u_scene_depth_mode;   // 0 none, 1 perspective, 2 orthographic
+layout(location = UNIFORM_SCENE_DEPTH_RANGE) uniform vec2 u_scene_depth_range; // the projection's near and far distances
+layout(location = UNIFORM_SCENE_ORIGIN) uniform ivec2 u_scene_origin;          // viewport origin in the depth texture
+layout(binding = UNIT_SCENE_DEPTH) uniform sampler2D u_scene_depth;
 
 // d: distance beyond the near plane along the view direction (Roettger & Ertl's d).
 float near_plane_distance(vec3 p) { return dot(p - u_eye, u_forward) - u_near; }

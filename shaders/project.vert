@@ -3,17 +3,17 @@
 // Vertices are pulled from storage buffers by gl_VertexID; no vertex attributes.
 //
 // u_source selects what is drawn:
-//   0 MESH   every cell triangle: vertex k of triangle gl_VertexID / 3 (pcp-exact, mip)
-//   1 BATCH  classic PCP: slot gl_VertexID / 36 of the frame's cell list, frame_data[slot] =
-//            (cell, d_min bits, Δd bits, 0); local triangle (gl_VertexID % 36) / 3 of that cell
+//   SOURCE_MESH    every cell triangle: vertex k of triangle gl_VertexID / 3 (pcp-exact, mip)
+//   SOURCE_BATCH classic PCP: slot gl_VertexID / SLOT_VERTICES of the frame's cell list, frame_data[slot] =
+//            (cell, d_min bits, Δd bits, 0); local triangle (gl_VertexID % SLOT_VERTICES) / 3 of that cell
 //            (slots past the cell's own triangle count are degenerate and clipped away)
-//   2 CAPS   near-plane cap triangles: frame_data[u_cap_base + 2·gl_VertexID] =
+//   SOURCE_CAPS  near-plane cap triangles: frame_data[u_cap_base + 2·gl_VertexID] =
 //            (x, y, z, scalar bits), frame_data[… + 1] = (d_min bits, Δd bits, 0, 0)
 // Caps lie on the near plane: their clip z is set to 0 so that rounding cannot clip them.
 #include "project.glsl"
 
-layout(location = 6) uniform int u_source;
-layout(location = 7) uniform int u_cap_base;
+layout(location = UNIFORM_SOURCE) uniform int u_source;
+layout(location = UNIFORM_CAP_BASE) uniform int u_cap_base;
 
 layout(location = 0) out vec3 v_position; // relative frame
 layout(location = 1) out float v_scalar;
@@ -33,7 +33,7 @@ void main() {
     vec2 range = vec2(0.0); // d_min, Δd
     bool cap = false;
     vec3 corner_scalars;
-    if (u_source == 2) {
+    if (u_source == SOURCE_CAPS) {
         uvec4 a = frame_data[u_cap_base + 2 * gl_VertexID];
         uvec4 b = frame_data[u_cap_base + 2 * gl_VertexID + 1];
         p = uintBitsToFloat(a.xyz);
@@ -45,8 +45,8 @@ void main() {
     } else {
         uint t;
         int corner;
-        if (u_source == 1) {
-            int slot = gl_VertexID / 36, local = gl_VertexID - slot * 36;
+        if (u_source == SOURCE_BATCH) {
+            int slot = gl_VertexID / SLOT_VERTICES, local = gl_VertexID - slot * SLOT_VERTICES;
             uvec4 entry = frame_data[slot];
             cell = entry.x;
             range = uintBitsToFloat(entry.yz);

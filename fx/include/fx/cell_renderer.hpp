@@ -67,10 +67,6 @@ const char* render_path_name(RenderPath path);
 // Parses a name given by render_path_name(); false for anything else.
 bool parse_render_path(std::string_view name, RenderPath& path);
 
-struct Viewport {
-    int x = 0, y = 0, width = 0, height = 0;
-};
-
 struct CellRenderOptions {
     // pcp-exact only: accumulate optical depth too and composite e^(−τ) over the background.
     bool fog = false;

@@ -1,5 +1,5 @@
-// cellfx — the GL half of the Absorption paths (`absorption`, `absorption-exact`), used by
-// fx::CellRenderer (fx/include/fx/cell_renderer.hpp).
+// cellfx — the Absorption paths' pass (`absorption`, `absorption-exact`) over the GL projector,
+// used by fx::CellRenderer (fx/include/fx/cell_renderer.hpp).
 //
 // Based on: Max, Williams & Silva 2000, §II (polyhedron projection, "over" back to front),
 // §III (visibility sort: fx::VisibilitySort), §V (view-dependent subdivision).
@@ -14,10 +14,9 @@
 //            only, per-fragment entry/exit and the pre-integration table;
 // both into the caller's float target with premultiplied "over" (ONE, ONE_MINUS_SRC_ALPHA).
 //
-// Ownership: keeps references to the renderer's mesh (topology, world points) and projector
-// geometry (positions relative to its origin, scalars, triangles), which must outlive it;
-// owns its programs, tables, buffers and per-frame scratch. Preconditions: the renderer's
-// GL context current; the mesh buffers bound at storage bindings 0–2 (project.glsl) for draw().
+// Ownership: keeps a reference to the projector (mesh topology, geometry, programs), which must
+// outlive it; owns its tables, buffers and per-frame scratch. Preconditions: the renderer's GL
+// context current; the projector's mesh bound (GlProjector::bind_mesh) for draw().
 #pragma once
 
 #include <cstddef>
@@ -35,18 +34,19 @@
 #include "fx/view_dependent_subdivision.hpp"
 #include "fx/visibility_sort.hpp"
 #include "gl/gl_object.hpp"
+#include "projector/gl_projector.hpp"
 
 namespace fx {
 
 class AbsorptionPass {
 public:
-    AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& geometry);
+    explicit AbsorptionPass(const GlProjector& projector);
     ~AbsorptionPass();
     AbsorptionPass(const AbsorptionPass&) = delete;
     AbsorptionPass& operator=(const AbsorptionPass&) = delete;
 
-    // In the field's units (a normalized function already rescaled). Tables are rebuilt lazily.
-    void set_transfer_function(const TransferFunction& tf);
+    // The projector's transfer function changed: tables are rebuilt lazily.
+    void transfer_function_changed();
 
     // CPU work of the frame; fills the sort/subdivision/projection fields of `stats`.
     void prepare(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
@@ -56,8 +56,6 @@ public:
     void draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
               CellRenderStats& stats);
 
-    // Pass-through resolve (premultiplied colour and alpha), same uniforms as pcp_resolve.frag.
-    const gl::Program& resolve() const { return resolve_; }
     std::size_t gpu_bytes() const;
 
 private:
@@ -66,9 +64,9 @@ private:
     void ensure_preintegration_table();
     void upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
 
-    const CellMesh& mesh_;
-    const ProjectorGeometry& geometry_;
-    TransferFunction tf_;
+    const GlProjector& projector_;
+    const gl::Program& classic_;
+    const gl::Program& exact_;
     double max_length_ = 1.0; // longest chord of any cell (the pre-integration table's length range)
     ViewDependentSubdivision subdivision_;
     std::map<SortMethod, std::unique_ptr<VisibilitySort>> sorts_;
@@ -82,7 +80,6 @@ private:
     std::vector<glm::uvec4> items_;
     int slot_vertices_ = 36;
 
-    gl::Program classic_, exact_, resolve_;
     gl::VertexArray vao_; // its element buffer is index_
     gl::Buffer frame_, index_;
     std::size_t frame_capacity_ = 0, index_capacity_ = 0;

@@ -2,7 +2,7 @@
 // §III (visibility sorting), §V (view-dependent subdivision) — the GL half of the two
 // Absorption flavours; shaders absorption.{vert,frag}, absorption_exact.{vert,frag},
 // absorption_items.glsl, absorption_resolve.frag.
-#include "absorption/absorption_pass.hpp"
+#include "passes/absorption_pass.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -17,33 +17,13 @@
 #include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
-#include "gl/shader_library.hpp"
+#include "projector/gl_interface.hpp"
 
 namespace fx {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-// Uniform locations (project.glsl 0–4; the path's own from 6).
-enum Uniform : GLint {
-    kViewProjection = 0,
-    kEye = 1,
-    kForward = 2,
-    kNear = 3,
-    kOrthographic = 4,
-    kSlotVertices = 6,
-    kPreintegration = 7,
-    kPreintegrationSize = 8,
-    kOpacitySize = 9, // absorption.frag
-    kSceneDepthMode = 20, // project.glsl, as the renderer sets them for its own programs
-    kSceneDepthRange = 21,
-    kSceneOrigin = 22,
-};
-constexpr GLuint kFrameBinding = 3;    // storage buffer: items (exact) or vertices (classic)
-constexpr GLuint kOpacityUnit = 1;     // 2-D opacity table
-constexpr GLuint kPreintegrationUnit = 2;
-constexpr std::uint32_t kWholeCell = 0xFFFFFFFFu;
 
 // The 2-D table of §II: 1024² keeps its bilinear error below 4e-5 in α with K = 12 (see
 // build_opacity_table); K = 12 leaves e^(−12) = 6e-6 of the light behind a polygon whose
@@ -56,8 +36,11 @@ constexpr std::size_t kCellsPerThread = 4096;
 
 } // namespace
 
-AbsorptionPass::AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& geometry)
-    : mesh_(mesh), geometry_(geometry), subdivision_(mesh) {
+AbsorptionPass::AbsorptionPass(const GlProjector& projector)
+    : projector_(projector), classic_(projector.program({"absorption.vert", "absorption.frag"})),
+      exact_(projector.program({"absorption_exact.vert", "absorption_exact.frag"})), subdivision_(projector.mesh()) {
+    const CellMesh& mesh = projector.mesh();
+    const ProjectorGeometry& geometry = projector.geometry();
     // The longest chord of a convex cell is at most its bounding-box diagonal. Faces must wind
     // outward: front and back, entry and exit are told apart by it, and an inverted cell would
     // be drawn inside out rather than rejected.
@@ -77,17 +60,12 @@ AbsorptionPass::AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& ge
     }
     max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
 
-    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
-    classic_ = lib.link({"absorption.vert", "absorption.frag"});
-    exact_ = lib.link({"absorption_exact.vert", "absorption_exact.frag"});
-    resolve_ = lib.link({"fullscreen.vert", "absorption_resolve.frag"});
     vao_ = gl::VertexArray::create();
 }
 
 AbsorptionPass::~AbsorptionPass() = default;
 
-void AbsorptionPass::set_transfer_function(const TransferFunction& tf) {
-    tf_ = tf;
+void AbsorptionPass::transfer_function_changed() {
     builders_.clear(); // they evaluate the old function
     preintegration_ready_ = false;
 }
@@ -133,8 +111,8 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
                 most = std::max(most, 4u);
             } else {
                 const std::uint32_t c = subdivision_.parent(w);
-                items_[i] = glm::uvec4(c, kWholeCell, 0u, 0u);
-                most = std::max(most, geometry_.cell_first_triangle[c + 1] - geometry_.cell_first_triangle[c]);
+                items_[i] = glm::uvec4(c, kWholeCellItem, 0u, 0u);
+                most = std::max(most, projector_.geometry().cell_first_triangle[c + 1] - projector_.geometry().cell_first_triangle[c]);
             }
         }
         slot_vertices_ = int(3 * most);
@@ -152,9 +130,9 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     const std::size_t threads = std::clamp<std::size_t>(n / kCellsPerThread, 1, std::min(hw, 16u));
     while (builders_.size() < threads)
-        builders_.push_back(std::make_unique<ClassicAbsorptionBuilder>(geometry_, tf_, classic_settings_));
+        builders_.push_back(std::make_unique<ClassicAbsorptionBuilder>(projector_.geometry(), projector_.transfer_function(), classic_settings_));
     parts_.resize(threads);
-    const ProjectorView view = make_projector_view(geometry_, camera);
+    const ProjectorView view = projector_.view(camera);
     const ProjectionFrame frame = make_projection_frame(view, camera, double(viewport.width) / double(viewport.height));
     std::vector<std::exception_ptr> errors(threads);
     auto work = [&](std::size_t t) {
@@ -206,8 +184,9 @@ void AbsorptionPass::ensure_opacity_table() {
 
 void AbsorptionPass::ensure_preintegration_table() {
     if (preintegration_ready_) return;
-    if (tf_.points().empty()) throw Error("absorption-exact: the transfer function has no points");
-    const PreintegrationTable table = build_preintegration_table(tf_, kPreScalars, kPreLengths, max_length_);
+    const TransferFunction& tf = projector_.transfer_function();
+    if (tf.points().empty()) throw Error("absorption-exact: the transfer function has no points");
+    const PreintegrationTable table = build_preintegration_table(tf, kPreScalars, kPreLengths, max_length_);
     if (!preintegration_) {
         preintegration_ = gl::Texture::create(GL_TEXTURE_3D);
         glTextureStorage3D(preintegration_.id(), 1, GL_RGBA32F, GLsizei(table.n_s), GLsizei(table.n_s),
@@ -227,34 +206,23 @@ void AbsorptionPass::ensure_preintegration_table() {
 
 void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                           CellRenderStats& stats) {
-    // Scene depth: the renderer binds the texture (unit 3); the mode and ranges are per program.
-    const GLint depth_mode = options.scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
-    for (const gl::Program* p : {&classic_, &exact_}) {
-        glProgramUniform1i(p->id(), kSceneDepthMode, depth_mode);
-        glProgramUniform2f(p->id(), kSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
-        glProgramUniform2i(p->id(), kSceneOrigin, viewport.x, viewport.y);
-    }
+    // Scene depth: the renderer binds the texture; the mode and ranges are per program.
+    for (const gl::Program* p : {&classic_, &exact_})
+        projector_.set_scene_depth_uniforms(*p, camera, viewport, options.scene_depth);
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front
     if (exact) {
         ensure_preintegration_table();
         upload(frame_, frame_capacity_, items_.data(), items_.size() * sizeof(glm::uvec4));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFrameBinding, frame_.id());
-        const ProjectorView view = make_projector_view(geometry_, camera);
-        const glm::mat4 vp(camera.projection_matrix(double(viewport.width) / double(viewport.height)) * view.view);
-        const glm::vec3 eye(view.eye), forward(view.forward);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
+        projector_.set_view_uniforms(exact_, camera, viewport);
         const GLuint p = exact_.id();
-        glProgramUniformMatrix4fv(p, kViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
-        glProgramUniform3fv(p, kEye, 1, glm::value_ptr(eye));
-        glProgramUniform3fv(p, kForward, 1, glm::value_ptr(forward));
-        glProgramUniform1f(p, kNear, float(view.near_distance));
-        glProgramUniform1i(p, kOrthographic, view.orthographic ? 1 : 0);
-        glProgramUniform1i(p, kSlotVertices, slot_vertices_);
-        glProgramUniform3f(p, kPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
-        glProgramUniform3i(p, kPreintegrationSize, GLint(kPreScalars), GLint(kPreScalars), GLint(kPreLengths));
-        glBindTextureUnit(kPreintegrationUnit, preintegration_.id());
-        glBindSampler(kPreintegrationUnit, 0);
+        glProgramUniform1i(p, kUniformSlotVertices, slot_vertices_);
+        glProgramUniform3f(p, kUniformPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
+        glProgramUniform3i(p, kUniformPreintegrationSize, GLint(kPreScalars), GLint(kPreScalars), GLint(kPreLengths));
+        glBindTextureUnit(kUnitPreintegration, preintegration_.id());
+        glBindSampler(kUnitPreintegration, 0);
         glUseProgram(p);
         glEnable(GL_CULL_FACE);
         glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
@@ -266,9 +234,9 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
         return;
     }
     ensure_opacity_table();
-    glBindTextureUnit(kOpacityUnit, opacity_.id());
-    glBindSampler(kOpacityUnit, 0);
-    glProgramUniform1i(classic_.id(), kOpacitySize, kOpacitySizeTexels);
+    glBindTextureUnit(kUnitOpacity, opacity_.id());
+    glBindSampler(kUnitOpacity, 0);
+    glProgramUniform1i(classic_.id(), kUniformOpacitySize, kOpacitySizeTexels);
     glUseProgram(classic_.id());
     glDisable(GL_CULL_FACE);
     glBindVertexArray(vao_.id());
@@ -278,7 +246,7 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
         const GLuint old_index = index_.id();
         upload(index_, index_capacity_, part.indices.data(), part.indices.size() * sizeof(std::uint32_t));
         if (index_.id() != old_index) glVertexArrayElementBuffer(vao_.id(), index_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFrameBinding, frame_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
         glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
         stats.draw_calls += 1;
     }
