@@ -53,6 +53,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
+#include "fx/parallel_for.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/visibility_sort.hpp"
 
@@ -141,6 +142,11 @@ public:
     // normalized function's range follows the new values. Throws fx::Error for a wrong count or
     // a non-finite value (nothing is changed then).
     void set_scalars(const std::vector<float>& values);
+
+    // The job system for the CPU work a frame can split (the classic absorption path's
+    // projection, the exact one's per-frame index lists). Default: cellfx's own persistent pool
+    // (default_parallel_for()); a ParallelFor with no `run` makes that work serial.
+    void set_parallel_for(const ParallelFor& parallel_for);
 
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});

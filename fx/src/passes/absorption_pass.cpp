@@ -9,13 +9,13 @@
 #include <cmath>
 #include <exception>
 #include <string>
-#include <thread>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "fx/error.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
+#include "parallel_tasks.hpp"
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
@@ -31,8 +31,9 @@ double ms_since(Clock::time_point t) { return std::chrono::duration<double, std:
 constexpr int kOpacitySizeTexels = 1024;
 // Pre-integration table: 128 scalar samples per end and 64 lengths (16 MiB of RGBA32F).
 constexpr std::size_t kPreScalars = 128, kPreLengths = 64;
-// Fewer cells than this are projected on the calling thread alone.
-constexpr std::size_t kCellsPerThread = 4096;
+// Classic: cells per run of the order projected as one task (fewer: one task), and at most this
+// many runs.
+constexpr std::size_t kCellsPerChunk = 4096, kMaxChunks = 64;
 
 } // namespace
 
@@ -83,7 +84,8 @@ const VisibilitySort& AbsorptionPass::sort_for(SortMethod method, CellRenderStat
 }
 
 void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, bool exact,
-                             const CellRenderOptions& options, CellRenderStats& stats) {
+                             const CellRenderOptions& options, const ParallelFor& parallel_for,
+                             CellRenderStats& stats) {
     auto t0 = Clock::now();
     // §V: problem cells for this view; the sorts are built on the working mesh, so a new one
     // invalidates them.
@@ -126,34 +128,27 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
         classic_settings_.slice_breakpoints = options.slice_breakpoints;
         builders_.clear();
     }
+    // Contiguous runs of the order, one builder each, concatenated in order by draw(). More runs
+    // than threads, so that a host's job system can balance them.
     const std::size_t n = order_.size();
-    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t threads = std::clamp<std::size_t>(n / kCellsPerThread, 1, std::min(hw, 16u));
-    while (builders_.size() < threads)
+    const std::size_t chunks = std::clamp<std::size_t>(n / kCellsPerChunk, 1, kMaxChunks);
+    while (builders_.size() < chunks)
         builders_.push_back(std::make_unique<ClassicAbsorptionBuilder>(projector_.geometry(), projector_.transfer_function(), classic_settings_));
-    parts_.resize(threads);
+    if (parts_.size() < chunks) parts_.resize(chunks);
+    chunks_ = chunks;
     const ProjectorView view = projector_.view(camera);
     const ProjectionFrame frame = make_projection_frame(view, camera, double(viewport.width) / double(viewport.height));
-    std::vector<std::exception_ptr> errors(threads);
-    auto work = [&](std::size_t t) {
-        try {
-            const std::size_t b = n * t / threads, e = n * (t + 1) / threads;
+    parallel_for_each(
+        parallel_for, chunks,
+        [&](std::size_t t) {
+            const std::size_t b = n * t / chunks, e = n * (t + 1) / chunks;
             parts_[t].clear();
             builders_[t]->set_view(view, frame);
             builders_[t]->append(cells, order_.data() + b, e - b, parts_[t]);
-        } catch (...) {
-            errors[t] = std::current_exception();
-        }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
-    work(0);
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : errors)
-        if (e) std::rethrow_exception(e);
+        },
+        errors_);
     std::size_t pieces = 0, culled = 0, polygons = 0;
-    for (std::size_t t = 0; t < parts_.size(); ++t) {
-        if (t >= threads) parts_[t].clear();
+    for (std::size_t t = 0; t < chunks; ++t) {
         pieces += parts_[t].pieces, culled += parts_[t].culled_cells, polygons += parts_[t].polygons;
     }
     stats.cells_drawn = n - culled;
@@ -240,7 +235,8 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     glUseProgram(classic_.id());
     glDisable(GL_CULL_FACE);
     glBindVertexArray(vao_.id());
-    for (const ClassicGeometry& part : parts_) {
+    for (std::size_t t = 0; t < chunks_; ++t) {
+        const ClassicGeometry& part = parts_[t];
         if (part.indices.empty()) continue;
         upload(frame_, frame_capacity_, part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
         const GLuint old_index = index_.id();

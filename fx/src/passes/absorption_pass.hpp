@@ -8,7 +8,7 @@
 // for this view and updates the working mesh (ViewDependentSubdivision), sorts it back to
 // front (the sort's per-mesh state is built on first use per method, and again when the
 // working mesh changes), and for the classic flavour builds every cell's polygons
-// (ClassicAbsorptionBuilder, on several threads, in order). draw() then uploads and draws:
+// (ClassicAbsorptionBuilder, in runs of the order through a fx::ParallelFor, kept in order). draw() then uploads and draws:
 //   classic  the polygons with u, v and C/α per vertex; α from the 2-D opacity table;
 //   exact    one item per cell (or tetrahedron of a subdivided cell) in order, back faces
 //            only, per-fragment entry/exit and the pre-integration table;
@@ -21,12 +21,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <map>
 #include <memory>
 #include <vector>
 
 #include "fx/absorption_classic.hpp"
 #include "fx/camera.hpp"
+#include "fx/parallel_for.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/polyhedron_projector.hpp"
@@ -49,8 +51,9 @@ public:
     void transfer_function_changed();
 
     // CPU work of the frame; fills the sort/subdivision/projection fields of `stats`.
+    // The classic flavour's projection runs through `parallel_for`.
     void prepare(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
-                 CellRenderStats& stats);
+                 const ParallelFor& parallel_for, CellRenderStats& stats);
     // GL work of the frame prepared last, into the bound target (cleared to 0). With
     // options.scene_depth the renderer has bound the scene's depth texture to unit 3.
     void draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
@@ -76,6 +79,8 @@ private:
     ClassicSettings classic_settings_;
     std::vector<std::unique_ptr<ClassicAbsorptionBuilder>> builders_;
     std::vector<ClassicGeometry> parts_;
+    std::size_t chunks_ = 0; // parts_ in use this frame
+    std::vector<std::exception_ptr> errors_;
     // Exact: the frame's items.
     std::vector<glm::uvec4> items_;
     int slot_vertices_ = 36;

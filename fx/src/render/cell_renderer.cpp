@@ -57,6 +57,7 @@ struct CellRenderer::Impl {
     gl::RenderTarget accumulation_float, accumulation_8bit;
     gl::VertexArray vao;
     gl::Query timer;
+    ParallelFor parallel_for = default_parallel_for();
     // Resolves over the host's framebuffer (the context's shared programs).
     const gl::Program* resolve_emission = nullptr;
     const gl::Program* resolve_fog = nullptr;
@@ -96,6 +97,8 @@ void CellRenderer::set_scalars(const std::vector<float>& values) {
     if (impl_->absorption) impl_->absorption->transfer_function_changed();
 }
 
+void CellRenderer::set_parallel_for(const ParallelFor& parallel_for) { impl_->parallel_for = parallel_for; }
+
 CellRenderer::~CellRenderer() = default;
 CellRenderer::CellRenderer(CellRenderer&&) noexcept = default;
 CellRenderer& CellRenderer::operator=(CellRenderer&&) noexcept = default;
@@ -130,7 +133,7 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host_framebuffer);
     const bool absorption = path == RenderPath::Absorption || path == RenderPath::AbsorptionExact;
     // The absorption paths' CPU work (sort, subdivision, projection) comes before the timed GL work.
-    if (absorption) m.absorption_pass().prepare(camera, viewport, path == RenderPath::AbsorptionExact, options, stats);
+    if (absorption) m.absorption_pass().prepare(camera, viewport, path == RenderPath::AbsorptionExact, options, m.parallel_for, stats);
     if (options.timing) glBeginQuery(GL_TIME_ELAPSED, m.timer.id());
 
     gl::StateGuard::set_render_defaults();
