@@ -1,7 +1,8 @@
 #version 450 core
 // Based on: Max, Williams & Silva 2000, §II (the volume density model, composited back to
-// front with "over") made exact per fragment. Drawn on the BACK faces of every item (front
-// faces culled), items in visibility order: each fragment is where its ray leaves the cell.
+// front with "over") made exact per fragment. Drawn on the BACK faces of every cell (front
+// faces culled), cells in visibility order (the frame's triangle list and words: absorption
+// pass), so each pixel a cell covers gets one fragment, in order.
 // The segment inside the cell comes from cell_segment.glsl (exact entry through the cell's
 // planes, clamped to the near plane — so a camera inside the mesh composites only what lies
 // ahead — and to the scene's surface where one is given); colour and opacity come from the
@@ -9,12 +10,7 @@
 // from the exact integrals, interpolated trilinearly here in full float. Output premultiplied,
 // into a float target with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA).
 #include "project.glsl"
-#include "absorption_items.glsl"
 #include "cell_segment.glsl"
-
-layout(location = 0) in vec3 v_position;
-layout(location = 1) in float v_scalar;
-layout(location = 2) flat in uvec4 v_item;
 
 // x = s_front, y = s_back (n_s samples of [s_lo, s_hi]), z = length (n_l samples of [0, max]).
 layout(binding = UNIT_PREINTEGRATION) uniform sampler3D u_preintegration;
@@ -35,26 +31,7 @@ vec4 preintegrated(float s_front, float s_back, float l) {
     return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
 }
 
-int cell_triangle_count() { return item_triangle_count(v_item); }
-CellTriangle cell_triangle(int k) {
-    CellTriangle t;
-    if (v_item.y == kWholeCell) {
-        Triangle tri = triangles[cell_first_triangle[v_item.x] + uint(k)];
-        t.v = tri.v.xyz;
-        t.plane = tri.plane;
-    } else { // a tetrahedron of a subdivided cell: its planes are made here
-        t.v = item_triangle_points(v_item, k);
-        vec3 a = points[t.v.x].xyz, b = points[t.v.y].xyz, c = points[t.v.z].xyz;
-        vec3 n = cross(b - a, c - a);
-        float len = length(n);
-        t.plane = len > 0.0 ? vec4(n / len, dot(n / len, (a + b + c) / 3.0)) : vec4(0.0);
-    }
-    return t;
-}
-
 void main() {
-    Ray ray = pixel_ray(v_position);
-    float t_exit = dot(v_position - ray.origin, ray.dir);
-    CellSegment segment = cell_segment(ray, t_exit, v_scalar);
+    CellSegment segment = cell_segment(fragment_ray(gl_FragCoord.xy));
     o_color = preintegrated(segment.s_in, segment.s_out, segment.length);
 }

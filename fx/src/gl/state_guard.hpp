@@ -33,7 +33,7 @@ namespace fx::gl {
 
 class StateGuard {
 public:
-    static constexpr int kUnits = 4;       // texture units / indexed buffer bindings saved
+    static constexpr int kUnits = 16;      // texture units / indexed buffer bindings saved
     static constexpr int kDrawBuffers = 8; // indexed blend/colour-mask state saved (≤ GL max)
     static constexpr int kViewports = 16;  // indexed viewport/scissor state saved (≤ GL max)
 

@@ -37,9 +37,10 @@ constexpr std::size_t kCellsPerChunk = 4096, kMaxChunks = 64;
 
 } // namespace
 
-AbsorptionPass::AbsorptionPass(const GlProjector& projector)
+AbsorptionPass::AbsorptionPass(GlProjector& projector)
     : projector_(projector), classic_(projector.program({"absorption.vert", "absorption.frag"})),
-      exact_(projector.program({"absorption_exact.vert", "absorption_exact.frag"})), subdivision_(projector.mesh()) {
+      exact_(projector.program({"cells.vert", "absorption_exact.frag"}, projector.mesh_defines().set("CELL_LIST"))),
+      subdivision_(projector.mesh()), exact_list_(projector) {
     const CellMesh& mesh = projector.mesh();
     const ProjectorGeometry& geometry = projector.geometry();
     // The longest chord of a convex cell is at most its bounding-box diagonal. Faces must wind
@@ -71,7 +72,7 @@ void AbsorptionPass::transfer_function_changed() {
     preintegration_ready_ = false;
 }
 
-std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_capacity_ + index_capacity_; }
+std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_capacity_ + index_capacity_ + exact_list_.gpu_bytes(); }
 
 const VisibilitySort& AbsorptionPass::sort_for(SortMethod method, CellRenderStats& stats) {
     auto it = sorts_.find(method);
@@ -103,22 +104,8 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
 
     t0 = Clock::now();
     if (exact) {
-        items_.resize(order_.size());
-        std::uint32_t most = 1;
-        for (std::size_t i = 0; i < order_.size(); ++i) {
-            const std::uint32_t w = order_[i];
-            if (subdivision_.is_piece(w)) {
-                const std::uint32_t* cv = cells.cell_vertices(w);
-                items_[i] = glm::uvec4(cv[0], cv[1], cv[2], cv[3]);
-                most = std::max(most, 4u);
-            } else {
-                const std::uint32_t c = subdivision_.parent(w);
-                items_[i] = glm::uvec4(c, kWholeCellItem, 0u, 0u);
-                most = std::max(most, projector_.geometry().cell_first_triangle[c + 1] - projector_.geometry().cell_first_triangle[c]);
-            }
-        }
-        slot_vertices_ = int(3 * most);
-        stats.cells_drawn = items_.size();
+        build_exact_frame();
+        stats.cells_drawn = order_.size();
         stats.projection_ms = ms_since(t0);
         return;
     }
@@ -155,6 +142,24 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
     stats.polygons = polygons;
     stats.pieces = pieces;
     stats.projection_ms = ms_since(t0);
+}
+
+void AbsorptionPass::build_exact_frame() {
+    // The frame's cells in visibility order: a whole cell of the mesh by its id, a tetrahedron
+    // made for this view (§V) as kPieceBit | its index in pieces_ (GlProjector::upload_pieces).
+    const CellMesh& cells = subdivision_.cells();
+    list_cells_.resize(order_.size());
+    pieces_.clear();
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+        const std::uint32_t w = order_[i];
+        if (subdivision_.is_piece(w)) {
+            const std::uint32_t* tet = cells.cell_vertices(w);
+            list_cells_[i] = kPieceBit | std::uint32_t(pieces_.size() / 4);
+            pieces_.insert(pieces_.end(), tet, tet + 4);
+        } else {
+            list_cells_[i] = subdivision_.parent(w);
+        }
+    }
 }
 
 void AbsorptionPass::upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
@@ -209,20 +214,20 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front
     if (exact) {
         ensure_preintegration_table();
-        upload(frame_, frame_capacity_, items_.data(), items_.size() * sizeof(glm::uvec4));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
+        projector_.upload_pieces(pieces_);
+        exact_list_.upload(list_cells_, {});
         projector_.set_view_uniforms(exact_, camera, viewport);
         const GLuint p = exact_.id();
-        glProgramUniform1i(p, kUniformSlotVertices, slot_vertices_);
         glProgramUniform3f(p, kUniformPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
         glProgramUniform3i(p, kUniformPreintegrationSize, GLint(kPreScalars), GLint(kPreScalars), GLint(kPreLengths));
         glBindTextureUnit(kUnitPreintegration, preintegration_.id());
         glBindSampler(kUnitPreintegration, 0);
         glUseProgram(p);
+        exact_list_.bind(exact_);
         glEnable(GL_CULL_FACE);
-        glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
-        if (!items_.empty()) {
-            glDrawArrays(GL_TRIANGLES, 0, GLsizei(items_.size() * std::size_t(slot_vertices_)));
+        glCullFace(GL_FRONT); // back faces only: each pixel a cell covers gets one fragment
+        if (exact_list_.size() > 0) {
+            exact_list_.draw(0, exact_list_.size());
             stats.draw_calls += 1;
         }
         FX_GL_CHECK("absorption-exact draw");

@@ -10,8 +10,9 @@
 // working mesh changes), and for the classic flavour builds every cell's polygons
 // (ClassicAbsorptionBuilder, in runs of the order through a fx::ParallelFor, kept in order). draw() then uploads and draws:
 //   classic  the polygons with u, v and C/α per vertex; α from the 2-D opacity table;
-//   exact    one item per cell (or tetrahedron of a subdivided cell) in order, back faces
-//            only, per-fragment entry/exit and the pre-integration table;
+//   exact    the cells' triangles in order (a subdivided cell's tetrahedra in its place),
+//            one indexed draw, back faces only, per-fragment entry/exit through the cell's
+//            planes and the pre-integration table;
 // both into the caller's float target with premultiplied "over" (ONE, ONE_MINUS_SRC_ALPHA).
 //
 // Ownership: keeps a reference to the projector (mesh topology, geometry, programs), which must
@@ -42,7 +43,7 @@ namespace fx {
 
 class AbsorptionPass {
 public:
-    explicit AbsorptionPass(const GlProjector& projector);
+    explicit AbsorptionPass(GlProjector& projector);
     ~AbsorptionPass();
     AbsorptionPass(const AbsorptionPass&) = delete;
     AbsorptionPass& operator=(const AbsorptionPass&) = delete;
@@ -67,7 +68,7 @@ private:
     void ensure_preintegration_table();
     void upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
 
-    const GlProjector& projector_;
+    GlProjector& projector_;
     const gl::Program& classic_;
     const gl::Program& exact_;
     double max_length_ = 1.0; // longest chord of any cell (the pre-integration table's length range)
@@ -81,11 +82,13 @@ private:
     std::vector<ClassicGeometry> parts_;
     std::size_t chunks_ = 0; // parts_ in use this frame
     std::vector<std::exception_ptr> errors_;
-    // Exact: the frame's items.
-    std::vector<glm::uvec4> items_;
-    int slot_vertices_ = 36;
+    // Exact: the frame's cells in visibility order and the tetrahedra made for this view (4
+    // point ids each).
+    void build_exact_frame();
+    std::vector<std::uint32_t> list_cells_, pieces_;
+    GlCellList exact_list_;
 
-    gl::VertexArray vao_; // its element buffer is index_
+    gl::VertexArray vao_; // classic: its element buffer is index_
     gl::Buffer frame_, index_;
     std::size_t frame_capacity_ = 0, index_capacity_ = 0;
     gl::Texture opacity_, preintegration_;

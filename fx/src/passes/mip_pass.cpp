@@ -7,7 +7,8 @@
 namespace fx {
 
 MipPass::MipPass(GlProjector& projector)
-    : projector_(projector), program_(projector.program({"project.vert", "mip.frag"})) {}
+    : projector_(projector), program_(projector.program({"faces.vert", "mip.frag"})),
+      caps_program_(projector.program({"caps.vert", "mip.frag"}, gl::Defines{{"CAPS", "1"}})) {}
 
 void MipPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
                    CellRenderStats& stats) {
@@ -17,16 +18,19 @@ void MipPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         project_cells(projector_.mesh(), projector_.geometry(), view, projected_);
         build_near_caps(projector_.geometry(), view, projected_, caps_);
     }
-    const GLuint p = program_.id();
-    projector_.set_view_uniforms(program_, camera, viewport);
-    projector_.set_scene_depth_uniforms(program_, camera, viewport, options.scene_depth);
-    glUseProgram(p);
+    for (const gl::Program* p : {&program_, &caps_program_}) {
+        projector_.set_view_uniforms(*p, camera, viewport);
+        projector_.set_scene_depth_uniforms(*p, camera, viewport, options.scene_depth);
+    }
+    glUseProgram(program_.id());
     glDisable(GL_CULL_FACE);
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_MAX, GL_MAX);
     glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE); // ignored by GL_MAX
-    glProgramUniform1i(p, kUniformSource, kSourceMesh);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(projector_.geometry().triangles.size() * 3));
+    // Each face once: a face two cells share shows the same scalars to both.
+    const std::size_t faces = projector_.unique_face_triangles();
+    projector_.bind_unique_faces();
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * faces));
     stats.draw_calls += 1;
     stats.cells_drawn = projector_.mesh().cell_count();
     if (caps_.polygon_count() > 0) {
@@ -34,8 +38,7 @@ void MipPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         for (std::size_t k = 0; k < caps_.polygon_count(); ++k)
             GlProjector::append_cap_vertices(caps_, projected_, k, frame_data_);
         projector_.upload_frame(frame_data_);
-        glProgramUniform1i(p, kUniformSource, kSourceCaps);
-        glProgramUniform1i(p, kUniformCapBase, 0);
+        glUseProgram(caps_program_.id());
         glDrawArrays(GL_TRIANGLES, 0, GLsizei(frame_data_.size() / 2));
         stats.draw_calls += 1;
         stats.caps = caps_.polygon_count();

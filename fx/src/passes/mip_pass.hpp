@@ -25,7 +25,8 @@ public:
 
 private:
     GlProjector& projector_;
-    const gl::Program& program_;
+    const gl::Program& program_;      // the mesh's faces
+    const gl::Program& caps_program_; // near-plane caps
     ProjectedCells projected_;
     NearCaps caps_;
     std::vector<glm::uvec4> frame_data_;

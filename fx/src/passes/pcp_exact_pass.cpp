@@ -7,20 +7,19 @@
 namespace fx {
 
 PcpExactPass::PcpExactPass(const GlProjector& projector)
-    : projector_(projector), program_(projector.program({"project.vert", "pcp_exact.frag"})) {}
+    : projector_(projector), program_(projector.program({"cells.vert", "pcp_exact.frag"}, projector.mesh_defines())) {}
 
 void PcpExactPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
                         CellRenderStats& stats) {
     projector_.set_view_uniforms(program_, camera, viewport);
     projector_.set_scene_depth_uniforms(program_, camera, viewport, options.scene_depth);
     glUseProgram(program_.id());
-    glProgramUniform1i(program_.id(), kUniformSource, kSourceMesh);
     glEnable(GL_CULL_FACE);
-    glCullFace(GL_FRONT); // back faces only: each fragment is a ray's exit from its cell
+    glCullFace(GL_FRONT); // back faces only: each pixel a cell covers gets one fragment
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(projector_.geometry().triangles.size() * 3));
+    projector_.draw_slots(0, projector_.mesh().cell_count());
     stats.draw_calls += 1;
     stats.cells_drawn = projector_.mesh().cell_count();
     FX_GL_CHECK("pcp-exact draw");

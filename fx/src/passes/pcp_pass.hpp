@@ -28,13 +28,16 @@ public:
 
 private:
     GlProjector& projector_;
-    const gl::Program& program_;
+    const gl::Program& program_;      // the cells of a batch (cells.vert, CELL_LIST and CLASSIC)
+    const gl::Program& caps_program_; // their near-plane caps
+    GlCellList list_;                 // the frame's cells, batch after batch, with (d_min, Δd)
     ProjectedCells projected_;
     NearCaps caps_;
     CellFootprints footprints_;
-    std::vector<std::uint32_t> batch_of_, cell_start_, cap_start_, fill_;
+    std::vector<std::uint32_t> batch_of_, cell_start_, cap_start_, fill_, list_cells_;
+    std::vector<glm::vec2> list_ranges_;
     std::vector<std::vector<std::uint32_t>> caps_of_batch_;
-    std::vector<glm::uvec4> frame_data_;
+    std::vector<glm::uvec4> cap_data_;
 };
 
 } // namespace fx
