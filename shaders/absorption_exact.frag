@@ -12,8 +12,10 @@
 #include "project.glsl"
 #include "cell_segment.glsl"
 
-// x = s_front, y = s_back (n_s samples of [s_lo, s_hi]), z = length (n_l samples of [0, max]).
-layout(binding = UNIT_PREINTEGRATION) uniform sampler3D u_preintegration;
+// Entry (il·n_s + ib)·n_s + if: s_front = if, s_back = ib (n_s samples of [s_lo, s_hi]), length
+// = il (n_l samples of [0, max]); a buffer texture, so that each of the eight texels of the
+// trilinear interpolation costs one add.
+layout(binding = UNIT_PREINTEGRATION) uniform samplerBuffer u_preintegration;
 layout(location = UNIFORM_PREINTEGRATION) uniform vec3 u_preint;        // s_lo, samples per unit s, samples per unit length
 layout(location = UNIFORM_PREINTEGRATION_SIZE) uniform ivec3 u_preint_size; // n_s, n_s, n_l
 
@@ -24,10 +26,12 @@ vec4 preintegrated(float s_front, float s_back, float l) {
     x = clamp(x, vec3(0.0), vec3(u_preint_size - 1)); // held end values; longer than any cell: the last
     ivec3 i = min(ivec3(x), u_preint_size - 2);
     vec3 f = x - vec3(i);
-    vec4 c00 = mix(texelFetch(u_preintegration, i, 0), texelFetch(u_preintegration, i + ivec3(1, 0, 0), 0), f.x);
-    vec4 c10 = mix(texelFetch(u_preintegration, i + ivec3(0, 1, 0), 0), texelFetch(u_preintegration, i + ivec3(1, 1, 0), 0), f.x);
-    vec4 c01 = mix(texelFetch(u_preintegration, i + ivec3(0, 0, 1), 0), texelFetch(u_preintegration, i + ivec3(1, 0, 1), 0), f.x);
-    vec4 c11 = mix(texelFetch(u_preintegration, i + ivec3(0, 1, 1), 0), texelFetch(u_preintegration, i + ivec3(1, 1, 1), 0), f.x);
+    int n = u_preint_size.x, nn = n * u_preint_size.y;
+    int b = (i.z * u_preint_size.y + i.y) * n + i.x;
+    vec4 c00 = mix(texelFetch(u_preintegration, b), texelFetch(u_preintegration, b + 1), f.x);
+    vec4 c10 = mix(texelFetch(u_preintegration, b + n), texelFetch(u_preintegration, b + n + 1), f.x);
+    vec4 c01 = mix(texelFetch(u_preintegration, b + nn), texelFetch(u_preintegration, b + nn + 1), f.x);
+    vec4 c11 = mix(texelFetch(u_preintegration, b + nn + n), texelFetch(u_preintegration, b + nn + n + 1), f.x);
     return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
 }
 

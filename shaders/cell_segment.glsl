@@ -91,60 +91,73 @@ float fragment_t(Ray ray) {
     return (1.0 / gl_FragCoord.w) / max(dot(ray.dir, u_forward), 1e-6);
 }
 
-// The segment of this fragment's pixel ray in its cell.
+// The segment of this fragment's pixel ray in its cell, from the entry and exit parameters
+// t_front < t_back and the scalar there: cut to the near plane and to the scene's surface.
+CellSegment clipped_segment(Ray ray, float t_front, float t_back, float s_front, float s_back) {
+    float t_in = max(t_front, near_plane_t(ray));
+    float t_out = min(t_back, scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy)));
+    float span = t_back - t_front;
+    CellSegment segment;
+    segment.length = max(t_out - t_in, 0.0);
+    segment.s_in = mix(s_front, s_back, span > 0.0 ? clamp((t_in - t_front) / span, 0.0, 1.0) : 0.0);
+    segment.s_out = mix(s_front, s_back, span > 0.0 ? clamp((t_out - t_front) / span, 0.0, 1.0) : 1.0);
+    return segment;
+}
+
+#if VERTICES_PER_CELL == 4
+// Every cell a tetrahedron: Cyrus–Beck through its four planes, the scalar its linear function
+// along the ray (s = g·(o + t·d) + s0). No branch: Mesa's llvmpipe runs both sides of every
+// branch some fragment of a batch takes.
+CellSegment cell_segment(Ray ray) {
+    int first = int(v_word >> uint(WORD_COUNT_BITS));
+    float t_front = -3.4e38, t_back = 3.4e38;
+    for (int k = 0; k < 4; ++k) {
+        vec4 plane = texelFetch(u_planes, first + k);
+        float den = dot(plane.xyz, ray.dir);
+        float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
+        t_front = den < -kGrazing ? max(t_front, t) : t_front;
+        t_back = den > kGrazing ? min(t_back, t) : t_back;
+    }
+    vec4 f = texelFetch(u_scalar_functions, first);
+    float s_origin = dot(f.xyz, ray.origin) + f.w, s_step = dot(f.xyz, ray.dir);
+    float t_in = max(t_front, near_plane_t(ray));
+    float t_out = min(t_back, scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy)));
+    CellSegment segment;
+    segment.length = t_back > t_front ? max(t_out - t_in, 0.0) : 0.0; // empty: degenerate, or missed by rounding
+    segment.s_in = s_origin + s_step * t_in;
+    segment.s_out = s_origin + s_step * max(t_out, t_in);
+    return segment;
+}
+#else
 CellSegment cell_segment(Ray ray) {
     int first = int(v_word >> uint(WORD_COUNT_BITS)), triangles = int(v_word & ((1u << uint(WORD_COUNT_BITS)) - 1u)) + 1;
     float t_front = -3.4e38, t_back = 3.4e38;
     int front = -1, back = -1;
-    if (triangles == 4) { // a tetrahedron: Cyrus–Beck
-        for (int k = 0; k < 4; ++k) {
-            vec4 plane = texelFetch(u_planes, first + k);
-            float den = dot(plane.xyz, ray.dir);
-            float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
-            if (den < -kGrazing && t > t_front) t_front = t, front = k;
-            if (den > kGrazing && t < t_back) t_back = t, back = k;
-        }
-    } else { // the exit nearest the fragment, then the last entry before it
-        float t_own = fragment_t(ray);
-        float fronts[12]; // crossing of each front-facing plane, −3.4e38 for the others
-        for (int k = 0; k < triangles; ++k) {
-            vec4 plane = texelFetch(u_planes, first + k);
-            float den = dot(plane.xyz, ray.dir);
-            float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
-            fronts[k] = den < -kGrazing ? t : -3.4e38;
-            if (den > kGrazing && abs(t - t_own) < abs(t_back - t_own)) t_back = t, back = k;
-        }
-        if (back >= 0) resolve_crossing(first, triangles, 1.0, ray, t_own, back, t_back);
-        // The last entry before the exit (one beyond it by no more than rounding still counts: a
-        // ray that grazes the cell's edge), and it must lie in its triangle: a ray that misses the
-        // cell by rounding crosses planes before the exit too, outside their triangles.
-        float limit = t_back + 1e-5 * abs(t_back);
-        for (int k = 0; k < triangles; ++k)
-            if (fronts[k] > t_front && fronts[k] <= limit) t_front = fronts[k], front = k;
-        if (front >= 0 && !resolve_crossing(first, triangles, -1.0, ray, limit, front, t_front)) front = -1;
+    // The exit nearest the fragment, then the last entry before it (for a convex cell: the
+    // first back-facing and the last front-facing plane crossed).
+    float t_own = fragment_t(ray);
+    float fronts[12]; // crossing of each front-facing plane, −3.4e38 for the others
+    for (int k = 0; k < triangles; ++k) {
+        vec4 plane = texelFetch(u_planes, first + k);
+        float den = dot(plane.xyz, ray.dir);
+        float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
+        fronts[k] = den < -kGrazing ? t : -3.4e38;
+        if (den > kGrazing && abs(t - t_own) < abs(t_back - t_own)) t_back = t, back = k;
     }
-    CellSegment segment;
-    segment.s_in = segment.s_out = 0.0;
-    segment.length = 0.0;
-    if (front < 0 || back < 0 || !(t_back > t_front)) return segment; // degenerate, or missed by rounding
-    float s_front = face_scalar(first + front, ray, t_front), s_back = face_scalar(first + back, ray, t_back);
-
-    // Near plane: the segment starts there if the entry lies in front of it.
-    float t_in = t_front, s_in = s_front, t_out = t_back, s_out = s_back;
-    float span = t_back - t_front;
-    float t_near = near_plane_t(ray);
-    if (t_near > t_in) {
-        s_in = mix(s_front, s_back, span > 0.0 ? clamp((t_near - t_front) / span, 0.0, 1.0) : 1.0);
-        t_in = min(t_near, t_back);
+    if (back >= 0) resolve_crossing(first, triangles, 1.0, ray, t_own, back, t_back);
+    // The last entry before the exit (one beyond it by no more than rounding still counts: a
+    // ray that grazes the cell's edge), and it must lie in its triangle: a ray that misses the
+    // cell by rounding crosses planes before the exit too, outside their triangles.
+    float limit = t_back + 1e-5 * abs(t_back);
+    for (int k = 0; k < triangles; ++k)
+        if (fronts[k] > t_front && fronts[k] <= limit) t_front = fronts[k], front = k;
+    if (front >= 0 && !resolve_crossing(first, triangles, -1.0, ray, limit, front, t_front)) front = -1;
+    if (front < 0 || back < 0 || !(t_back > t_front)) { // degenerate, or missed by rounding
+        CellSegment none;
+        none.s_in = none.s_out = none.length = 0.0;
+        return none;
     }
-    // Scene depth: the segment ends at the opaque surface.
-    float t_scene = scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy));
-    if (t_scene < t_out) {
-        s_out = mix(s_front, s_back, span > 0.0 ? clamp((t_scene - t_front) / span, 0.0, 1.0) : 0.0);
-        t_out = max(t_scene, t_in);
-    }
-    segment.s_in = s_in;
-    segment.s_out = s_out;
-    segment.length = max(t_out - t_in, 0.0);
-    return segment;
+    return clipped_segment(ray, t_front, t_back, face_scalar(first + front, ray, t_front),
+                           face_scalar(first + back, ray, t_back));
 }
+#endif

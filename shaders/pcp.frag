@@ -26,13 +26,14 @@ void main() {
     if (u_pass == 3) {
         float cos_theta = u_orthographic != 0 ? 1.0 : max(dot(fragment_ray(gl_FragCoord.xy).dir, u_forward), 1e-3);
         o_color = vec4(v_color / cos_theta, 0.0);
-    } else if (u_scene_depth_mode == 0 || v_range.y <= 0.0) {
-        o_color = vec4(0.0, 0.0, 0.0, v_alpha);
     } else {
+        o_color = vec4(0.0, 0.0, 0.0, v_alpha);
+#ifdef SCENE_DEPTH
         // Scene depth: d clamped to the surface's, so back minus front is the length in front of
         // it (caps, at d = 0, are never behind a surface beyond the near plane).
         float d = v_alpha * v_range.y + v_range.x;
         float d_scene = scene_view_depth(gl_FragCoord.xy) - u_near;
-        o_color = vec4(0.0, 0.0, 0.0, clamp((min(d, d_scene) - v_range.x) / v_range.y, 0.0, 1.0));
+        if (v_range.y > 0.0) o_color.a = clamp((min(d, d_scene) - v_range.x) / v_range.y, 0.0, 1.0);
+#endif
     }
 }

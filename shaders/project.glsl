@@ -3,8 +3,8 @@
 // generated projector_interface.glsl (fx/src/projector/gl_interface.hpp); the mesh's buffers and
 // how they are drawn: fx/src/projector/gl_projector.hpp.
 //
-// Tables (UNIT_TABLES, texelFetch only, linear interpolation done here in full float), n samples
-// of [s_lo, s_hi]:
+// Tables (UNIT_TABLES, a buffer texture of three rows of n + 1 texels; linear interpolation done
+// here in full float), n samples of [s_lo, s_hi]:
 //   row 0: the cumulative E(s) = ∫c·σ ds (rgb) and T(s) = ∫σ ds (a) at the samples
 //   row 1: the mean of c·σ (rgb) and σ (a) over each table cell, entry i + 1 for cell i, entry
 //          0 below the table and n above it (the held end values)
@@ -18,13 +18,16 @@ layout(location = UNIFORM_NEAR) uniform float u_near;
 layout(location = UNIFORM_ORTHOGRAPHIC) uniform int u_orthographic;
 layout(location = UNIFORM_TABLE) uniform vec4 u_table;   // s_lo, s_hi, sample count, samples per unit s
 
-layout(binding = UNIT_TABLES) uniform sampler2D u_tables;
+layout(binding = UNIT_TABLES) uniform samplerBuffer u_tables;
+vec4 table(int row, int i) { return texelFetch(u_tables, row * (int(u_table.z) + 1) + i); }
 
-// Scene depth (CellRenderOptions::scene_depth): the host's window-space depth.
-layout(location = UNIFORM_SCENE_DEPTH_MODE) uniform int u_scene_depth_mode;   // 0 none, 1 perspective, 2 orthographic
 layout(location = UNIFORM_SCENE_DEPTH_RANGE) uniform vec2 u_scene_depth_range; // the projection's near and far distances
+#ifdef SCENE_DEPTH
+// Scene depth (CellRenderOptions::scene_depth): the host's window-space depth.
+layout(location = UNIFORM_SCENE_DEPTH_MODE) uniform int u_scene_depth_mode;   // 1 perspective, 2 orthographic
 layout(location = UNIFORM_SCENE_ORIGIN) uniform ivec2 u_scene_origin;          // viewport origin in the depth texture
 layout(binding = UNIT_SCENE_DEPTH) uniform sampler2D u_scene_depth;
+#endif
 
 // The ray through a fragment's pixel centre (gl_FragCoord.xy in the pass's target): the same ray
 // as fx::Camera::pixel_ray, from uniforms linear in x and y (GlProjector::set_view_uniforms).
@@ -58,7 +61,7 @@ float table_x(float s) { return (s - u_table.x) * u_table.w; }
 vec4 emission_at(float s) {
     float x = clamp(table_x(s), 0.0, u_table.z - 1.0);
     int i = min(int(x), int(u_table.z) - 2);
-    return mix(texelFetch(u_tables, ivec2(i, 2), 0), texelFetch(u_tables, ivec2(i + 1, 2), 0), x - float(i));
+    return mix(table(2, i), table(2, i + 1), x - float(i));
 }
 
 // Emission (rgb) and optical depth (a) of a segment of length l with scalar s_front → s_back,
@@ -70,10 +73,9 @@ vec4 segment_integral(float s_front, float s_back, float l) {
     float last = u_table.z - 1.0;
     float x0 = table_x(min(s_front, s_back)), x1 = table_x(max(s_front, s_back));
     float i0 = clamp(floor(x0), -1.0, last), i1 = clamp(floor(x1), -1.0, last); // −1: below the table
-    vec4 mean0 = texelFetch(u_tables, ivec2(int(i0) + 1, 1), 0);
-    vec4 mean1 = texelFetch(u_tables, ivec2(int(i1) + 1, 1), 0);
+    vec4 mean0 = table(1, int(i0) + 1), mean1 = table(1, int(i1) + 1);
     // E(i1) − E(i0 + 1): the whole cells between the two ends (none for adjacent cells).
-    vec4 middle = texelFetch(u_tables, ivec2(int(i1), 0), 0) - texelFetch(u_tables, ivec2(int(max(i0 + 1.0, 0.0)), 0), 0);
+    vec4 middle = table(0, int(i1)) - table(0, int(max(i0 + 1.0, 0.0)));
     // In units of x (samples): the partial cells, the whole ones (E per unit s times u_table.w).
     vec4 total = mean0 * (i0 + 1.0 - x0) + middle * u_table.w + mean1 * (x1 - i1);
     return i0 == i1 ? mean0 * l : total * (l / (x1 - x0));
@@ -81,15 +83,19 @@ vec4 segment_integral(float s_front, float s_back, float l) {
 
 // ---- scene depth ----------------------------------------------------------------------------
 // View depth (distance from the eye plane along u_forward) of the scene surface behind the
-// pixel at frag_coord (a fragment shader's gl_FragCoord.xy); 3.4e38 without a scene depth.
+// pixel at frag_coord (a fragment shader's gl_FragCoord.xy); 3.4e38 without a scene depth
+// (SCENE_DEPTH not defined: the programs' variant for frames without one, ProgramVariants).
 // Perspective: window depth w gives z_e = n·f / (f·(1 − w) + w·n) (GL's default depth range;
 // 1 − w is exact near w = 1, so far surfaces keep what precision the depth buffer has).
 float scene_view_depth(vec2 frag_coord) {
-    if (u_scene_depth_mode == 0) return 3.4e38;
+#ifndef SCENE_DEPTH
+    return 3.4e38;
+#else
     float w = texelFetch(u_scene_depth, ivec2(frag_coord) + u_scene_origin, 0).r;
     float n = u_scene_depth_range.x, f = u_scene_depth_range.y;
     if (u_scene_depth_mode == 2) return n + w * (f - n);
     return n * f / (f * (1.0 - w) + w * n);
+#endif
 }
 // The same as a parameter along a ray from fragment_ray().
 float scene_ray_t(Ray r, float view_depth) {

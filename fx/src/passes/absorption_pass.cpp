@@ -38,8 +38,8 @@ constexpr std::size_t kCellsPerChunk = 4096, kMaxChunks = 64;
 } // namespace
 
 AbsorptionPass::AbsorptionPass(GlProjector& projector)
-    : projector_(projector), classic_(projector.program({"absorption.vert", "absorption.frag"})),
-      exact_(projector.program({"cells.vert", "absorption_exact.frag"}, projector.mesh_defines().set("CELL_LIST"))),
+    : projector_(projector), classic_programs_(projector.programs({"absorption.vert", "absorption.frag"})),
+      exact_programs_(projector.programs({"cells.vert", "absorption_exact.frag"}, projector.mesh_defines().set("CELL_LIST"))),
       subdivision_(projector.mesh()), exact_list_(projector) {
     const CellMesh& mesh = projector.mesh();
     const ProjectorGeometry& geometry = projector.geometry();
@@ -187,16 +187,14 @@ void AbsorptionPass::ensure_preintegration_table() {
     const TransferFunction& tf = projector_.transfer_function();
     if (tf.points().empty()) throw Error("absorption-exact: the transfer function has no points");
     const PreintegrationTable table = build_preintegration_table(tf, kPreScalars, kPreLengths, max_length_);
-    if (!preintegration_) {
-        preintegration_ = gl::Texture::create(GL_TEXTURE_3D);
-        glTextureStorage3D(preintegration_.id(), 1, GL_RGBA32F, GLsizei(table.n_s), GLsizei(table.n_s),
-                           GLsizei(table.n_l));
-        glTextureParameteri(preintegration_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(preintegration_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    // A buffer texture (absorption_exact.frag): (il·n_s + ib)·n_s + if.
+    if (!preintegration_buffer_) {
+        preintegration_buffer_ = gl::make_buffer(GLsizeiptr(table.rgba.size() * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        preintegration_ = gl::Texture::create(GL_TEXTURE_BUFFER);
+        glTextureBuffer(preintegration_.id(), GL_RGBA32F, preintegration_buffer_.id());
         table_bytes_ += table.rgba.size() * sizeof(glm::vec4);
     }
-    glTextureSubImage3D(preintegration_.id(), 0, 0, 0, 0, GLsizei(table.n_s), GLsizei(table.n_s), GLsizei(table.n_l),
-                        GL_RGBA, GL_FLOAT, table.rgba.data());
+    glNamedBufferSubData(preintegration_buffer_.id(), 0, GLsizeiptr(table.rgba.size() * sizeof(glm::vec4)), table.rgba.data());
     FX_GL_CHECK("absorption: pre-integration table");
     s_lo_ = table.s_lo;
     s_per_unit_ = double(table.n_s - 1) / (table.s_hi - table.s_lo);
@@ -207,7 +205,9 @@ void AbsorptionPass::ensure_preintegration_table() {
 void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                           CellRenderStats& stats) {
     // Scene depth: the renderer binds the texture; the mode and ranges are per program.
-    for (const gl::Program* p : {&classic_, &exact_})
+    const gl::Program& classic = classic_programs_(options.scene_depth != 0);
+    const gl::Program& exact_program = exact_programs_(options.scene_depth != 0);
+    for (const gl::Program* p : {&classic, &exact_program})
         projector_.set_scene_depth_uniforms(*p, camera, viewport, options.scene_depth);
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
@@ -216,14 +216,14 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
         ensure_preintegration_table();
         projector_.upload_pieces(pieces_);
         exact_list_.upload(list_cells_, {});
-        projector_.set_view_uniforms(exact_, camera, viewport);
-        const GLuint p = exact_.id();
+        projector_.set_view_uniforms(exact_program, camera, viewport);
+        const GLuint p = exact_program.id();
         glProgramUniform3f(p, kUniformPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
         glProgramUniform3i(p, kUniformPreintegrationSize, GLint(kPreScalars), GLint(kPreScalars), GLint(kPreLengths));
         glBindTextureUnit(kUnitPreintegration, preintegration_.id());
         glBindSampler(kUnitPreintegration, 0);
         glUseProgram(p);
-        exact_list_.bind(exact_);
+        exact_list_.bind(exact_program);
         glEnable(GL_CULL_FACE);
         glCullFace(GL_FRONT); // back faces only: each pixel a cell covers gets one fragment
         if (exact_list_.size() > 0) {
@@ -236,8 +236,8 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     ensure_opacity_table();
     glBindTextureUnit(kUnitOpacity, opacity_.id());
     glBindSampler(kUnitOpacity, 0);
-    glProgramUniform1i(classic_.id(), kUniformOpacitySize, kOpacitySizeTexels);
-    glUseProgram(classic_.id());
+    glProgramUniform1i(classic.id(), kUniformOpacitySize, kOpacitySizeTexels);
+    glUseProgram(classic.id());
     glDisable(GL_CULL_FACE);
     glBindVertexArray(vao_.id());
     for (std::size_t t = 0; t < chunks_; ++t) {

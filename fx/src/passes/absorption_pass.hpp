@@ -69,8 +69,8 @@ private:
     void upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
 
     GlProjector& projector_;
-    const gl::Program& classic_;
-    const gl::Program& exact_;
+    const ProgramVariants classic_programs_;
+    const ProgramVariants exact_programs_;
     double max_length_ = 1.0; // longest chord of any cell (the pre-integration table's length range)
     ViewDependentSubdivision subdivision_;
     std::map<SortMethod, std::unique_ptr<VisibilitySort>> sorts_;
@@ -92,6 +92,7 @@ private:
     gl::Buffer frame_, index_;
     std::size_t frame_capacity_ = 0, index_capacity_ = 0;
     gl::Texture opacity_, preintegration_;
+    gl::Buffer preintegration_buffer_;
     bool opacity_ready_ = false, preintegration_ready_ = false;
     double s_lo_ = 0.0, s_per_unit_ = 0.0, l_per_unit_ = 0.0;
     std::size_t table_bytes_ = 0;

@@ -7,7 +7,7 @@
 namespace fx {
 
 MipPass::MipPass(GlProjector& projector)
-    : projector_(projector), program_(projector.program({"faces.vert", "mip.frag"})),
+    : projector_(projector), programs_(projector.programs({"faces.vert", "mip.frag"})),
       caps_program_(projector.program({"caps.vert", "mip.frag"}, gl::Defines{{"CAPS", "1"}})) {}
 
 void MipPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
@@ -18,11 +18,11 @@ void MipPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         project_cells(projector_.mesh(), projector_.geometry(), view, projected_);
         build_near_caps(projector_.geometry(), view, projected_, caps_);
     }
-    for (const gl::Program* p : {&program_, &caps_program_}) {
-        projector_.set_view_uniforms(*p, camera, viewport);
-        projector_.set_scene_depth_uniforms(*p, camera, viewport, options.scene_depth);
-    }
-    glUseProgram(program_.id());
+    const gl::Program& program = programs_(options.scene_depth != 0);
+    projector_.set_view_uniforms(program, camera, viewport);
+    projector_.set_scene_depth_uniforms(program, camera, viewport, options.scene_depth);
+    projector_.set_view_uniforms(caps_program_, camera, viewport); // caps lie on the near plane: no scene test
+    glUseProgram(program.id());
     glDisable(GL_CULL_FACE);
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_MAX, GL_MAX);

@@ -25,7 +25,7 @@ public:
 
 private:
     GlProjector& projector_;
-    const gl::Program& program_;      // the mesh's faces
+    const ProgramVariants programs_;  // the mesh's faces
     const gl::Program& caps_program_; // near-plane caps
     ProjectedCells projected_;
     NearCaps caps_;

@@ -7,13 +7,14 @@
 namespace fx {
 
 PcpExactPass::PcpExactPass(const GlProjector& projector)
-    : projector_(projector), program_(projector.program({"cells.vert", "pcp_exact.frag"}, projector.mesh_defines())) {}
+    : projector_(projector), programs_(projector.programs({"cells.vert", "pcp_exact.frag"}, projector.mesh_defines())) {}
 
 void PcpExactPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
                         CellRenderStats& stats) {
-    projector_.set_view_uniforms(program_, camera, viewport);
-    projector_.set_scene_depth_uniforms(program_, camera, viewport, options.scene_depth);
-    glUseProgram(program_.id());
+    const gl::Program& program = programs_(options.scene_depth != 0);
+    projector_.set_view_uniforms(program, camera, viewport);
+    projector_.set_scene_depth_uniforms(program, camera, viewport, options.scene_depth);
+    glUseProgram(program.id());
     glEnable(GL_CULL_FACE);
     glCullFace(GL_FRONT); // back faces only: each pixel a cell covers gets one fragment
     glEnablei(GL_BLEND, 0);

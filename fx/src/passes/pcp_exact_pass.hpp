@@ -20,7 +20,7 @@ public:
 
 private:
     const GlProjector& projector_;
-    const gl::Program& program_;
+    const ProgramVariants programs_;
 };
 
 } // namespace fx

@@ -6,10 +6,9 @@
 
 namespace fx {
 PcpPass::PcpPass(GlProjector& projector)
-    : projector_(projector), program_(projector.program({"cells.vert", "pcp.frag"}, projector.mesh_defines()
-                                                                                          .set("CELL_LIST")
-                                                                                          .set("CLASSIC"))),
-      caps_program_(projector.program({"caps.vert", "pcp.frag"})), list_(projector) {}
+    : projector_(projector), programs_(projector.programs({"cells.vert", "pcp.frag"},
+                                                        projector.mesh_defines().set("CELL_LIST").set("CLASSIC"))),
+      caps_programs_(projector.programs({"caps.vert", "pcp.frag"})), list_(projector) {}
 
 void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
                    CellRenderStats& stats) {
@@ -58,15 +57,17 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     stats.batches = batches;
     stats.caps = caps_.polygon_count();
 
-    for (const gl::Program* p : {&program_, &caps_program_}) {
+    const gl::Program& program = programs_(options.scene_depth != 0);
+    const gl::Program& caps_program = caps_programs_(options.scene_depth != 0);
+    for (const gl::Program* p : {&program, &caps_program}) {
         projector_.set_view_uniforms(*p, camera, viewport);
         projector_.set_scene_depth_uniforms(*p, camera, viewport, options.scene_depth);
     }
-    list_.bind(program_);
+    list_.bind(program);
     glEnable(GL_CULL_FACE);
     auto set_pass = [&](int pass) {
-        glProgramUniform1i(program_.id(), kUniformPass, pass);
-        glProgramUniform1i(caps_program_.id(), kUniformPass, pass);
+        glProgramUniform1i(program.id(), kUniformPass, pass);
+        glProgramUniform1i(caps_program.id(), kUniformPass, pass);
     };
     for (std::uint32_t b = 0; b < batches; ++b) {
         const std::size_t first = cell_start_[b], count = cell_start_[b + 1] - cell_start_[b];
@@ -78,7 +79,7 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         glDisablei(GL_BLEND, 0);
         glCullFace(GL_FRONT);
         set_pass(1);
-        glUseProgram(program_.id());
+        glUseProgram(program.id());
         list_.draw(first, count);
         // Pass 2: front faces subtract theirs; caps stand in for clipped front faces (§5).
         glEnablei(GL_BLEND, 0);
@@ -88,7 +89,7 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         set_pass(2);
         list_.draw(first, count);
         if (cap_count > 0) {
-            glUseProgram(caps_program_.id());
+            glUseProgram(caps_program.id());
             glDrawArrays(GL_TRIANGLES, cap_first, cap_count);
         }
         // Pass 3: colour κ(S)·Δd/2 on all faces (and caps), times the segment length in alpha.
@@ -97,10 +98,10 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         glBlendFuncSeparate(GL_DST_ALPHA, GL_ONE, GL_ZERO, GL_ONE);
         glDisable(GL_CULL_FACE);
         set_pass(3);
-        glUseProgram(program_.id());
+        glUseProgram(program.id());
         list_.draw(first, count);
         if (cap_count > 0) {
-            glUseProgram(caps_program_.id());
+            glUseProgram(caps_program.id());
             glDrawArrays(GL_TRIANGLES, cap_first, cap_count);
         }
         glEnable(GL_CULL_FACE);

@@ -28,8 +28,8 @@ public:
 
 private:
     GlProjector& projector_;
-    const gl::Program& program_;      // the cells of a batch (cells.vert, CELL_LIST and CLASSIC)
-    const gl::Program& caps_program_; // their near-plane caps
+    const ProgramVariants programs_;      // the cells of a batch (cells.vert, CELL_LIST and CLASSIC)
+    const ProgramVariants caps_programs_; // their near-plane caps
     GlCellList list_;                 // the frame's cells, batch after batch, with (d_min, Δd)
     ProjectedCells projected_;
     NearCaps caps_;

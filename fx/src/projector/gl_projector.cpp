@@ -103,7 +103,8 @@ void check_texture_buffer_size(std::size_t texels, const char* what) {
 
 GlProjector::GlProjector(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf)
     : programs_(gl::ProgramCache::for_current_context()) {
-    tables_ = gl::make_texture_2d(GL_RGBA32F, kTableSize + 1, 3);
+    tables_buffer_ = gl::make_buffer(GLsizeiptr(3 * (kTableSize + 1) * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    attach(tables_, GL_RGBA32F, tables_buffer_);
     upload_mesh(mesh, scalar_name);
     set_transfer_function(tf);
 }
@@ -111,6 +112,13 @@ GlProjector::GlProjector(const CellMesh& mesh, const std::string& scalar_name, c
 const gl::Program& GlProjector::program(std::initializer_list<std::string_view> stages,
                                         const gl::Defines& defines) const {
     return programs_->program(projector_shader_library(), stages, defines);
+}
+
+ProgramVariants GlProjector::programs(std::initializer_list<std::string_view> stages, gl::Defines defines) const {
+    ProgramVariants v;
+    v.plain = &program(stages, defines);
+    v.with_scene_depth = &program(stages, defines.set("SCENE_DEPTH"));
+    return v;
 }
 
 gl::Defines GlProjector::mesh_defines() const { return gl::Defines{{"VERTICES_PER_CELL", std::to_string(vertices_per_cell_)}}; }
@@ -299,8 +307,8 @@ void GlProjector::upload_tables(const TransferFunction& tf) {
         const double t = emission_integral(extinction_tf, a, b, b - a).x / (b - a);
         texels[w + 1 + i] = glm::vec4(glm::vec3(e), float(t));
     }
-    glTextureSubImage2D(tables_.id(), 0, 0, 0, w, 3, GL_RGBA, GL_FLOAT, texels.data());
-    FX_GL_CHECK("glTextureSubImage2D(tables)");
+    glNamedBufferSubData(tables_buffer_.id(), 0, GLsizeiptr(texels.size() * sizeof(glm::vec4)), texels.data());
+    FX_GL_CHECK("upload tables");
 }
 
 glm::mat4 GlProjector::view_projection(const Camera& camera, const Viewport& viewport) const {
@@ -376,12 +384,12 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
 
 void GlProjector::set_scene_depth_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport,
                                            unsigned int scene_depth) const {
-    // Mode 0: no scene depth; 1: perspective window depth; 2: orthographic (project.glsl).
-    const GLint mode = scene_depth == 0 ? 0 : (camera.orthographic() ? 2 : 1);
     const GLuint p = program.id();
-    glProgramUniform1i(p, kUniformSceneDepthMode, mode);
     glProgramUniform2f(p, kUniformSceneDepthRange, float(camera.near_distance), float(camera.far_distance));
-    glProgramUniform2i(p, kUniformSceneOrigin, viewport.x, viewport.y);
+    if (scene_depth != 0) { // the SCENE_DEPTH variant: 1 perspective window depth, 2 orthographic
+        glProgramUniform1i(p, kUniformSceneDepthMode, camera.orthographic() ? 2 : 1);
+        glProgramUniform2i(p, kUniformSceneOrigin, viewport.x, viewport.y);
+    }
     FX_GL_CHECK("scene depth uniforms");
 }
 

@@ -58,6 +58,16 @@
 
 namespace fx {
 
+// A projector program in two variants: without and with the scene's depth (SCENE_DEPTH defined,
+// project.glsl). Testing against the scene costs every fragment a fetch and two divisions, and
+// Mesa's llvmpipe runs a branch's code whether or not a fragment takes it, so the test is
+// compiled in only for frames that have a scene depth.
+struct ProgramVariants {
+    const gl::Program* plain = nullptr;
+    const gl::Program* with_scene_depth = nullptr;
+    const gl::Program& operator()(bool scene_depth) const { return scene_depth ? *with_scene_depth : *plain; }
+};
+
 class GlProjector {
 public:
     // Uploads the mesh and field (see CellRenderer's constructor) and the function's tables.
@@ -79,6 +89,8 @@ public:
     // once per context and shared with every other renderer in it. The mesh's programs get
     // VERTICES_PER_CELL (see mesh_defines()).
     const gl::Program& program(std::initializer_list<std::string_view> stages, const gl::Defines& defines = {}) const;
+    // Both variants of a program (ProgramVariants).
+    ProgramVariants programs(std::initializer_list<std::string_view> stages, gl::Defines defines = {}) const;
     // VERTICES_PER_CELL for this mesh.
     gl::Defines mesh_defines() const;
 
@@ -106,8 +118,8 @@ public:
     // target of the viewport's size at the origin (the pass's own; the viewport's position
     // matters to the resolve and the scene depth only).
     void set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const;
-    // Sets project.glsl's scene-depth uniforms on `program` (mode 0 without a scene depth);
-    // `scene_depth` is CellRenderOptions::scene_depth.
+    // Sets project.glsl's scene-depth uniforms on `program`, the variant for `scene_depth`
+    // (CellRenderOptions::scene_depth; 0: none).
     void set_scene_depth_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport,
                                   unsigned int scene_depth) const;
     // Binds (or with 0 unbinds) the scene's depth texture on its unit.
@@ -157,6 +169,7 @@ private:
     gl::Texture points_texture_, connectivity_texture_, cell_offsets_texture_, cell_words_texture_, planes_texture_,
         scalar_fns_texture_, barycentrics_texture_;
     gl::VertexArray vertex_array_;
+    gl::Buffer tables_buffer_;
     gl::Texture tables_;
     double s_lo_ = 0.0, s_hi_ = 1.0;
     std::size_t static_bytes_ = 0, bytes_ = 0;
