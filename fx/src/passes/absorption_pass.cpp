@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <exception>
 #include <string>
 
@@ -62,7 +63,15 @@ AbsorptionPass::AbsorptionPass(GlProjector& projector)
     }
     max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
 
+    // Classic: the frame's ClassicVertex array as attributes 0–2 (absorption.vert).
     vao_ = gl::VertexArray::create();
+    glVertexArrayAttribFormat(vao_.id(), 0, 4, GL_FLOAT, GL_FALSE, GLuint(offsetof(ClassicVertex, position_uv)));
+    glVertexArrayAttribFormat(vao_.id(), 1, 3, GL_FLOAT, GL_FALSE, GLuint(offsetof(ClassicVertex, color)));
+    glVertexArrayAttribFormat(vao_.id(), 2, 2, GL_FLOAT, GL_FALSE, GLuint(offsetof(ClassicVertex, depth)));
+    for (GLuint a = 0; a < 3; ++a) {
+        glVertexArrayAttribBinding(vao_.id(), a, 0);
+        glEnableVertexArrayAttrib(vao_.id(), a);
+    }
 }
 
 AbsorptionPass::~AbsorptionPass() = default;
@@ -175,8 +184,9 @@ void AbsorptionPass::upload(gl::Buffer& buffer, std::size_t& capacity, const voi
 void AbsorptionPass::ensure_opacity_table() {
     if (opacity_ready_) return;
     const OpacityTable table = build_opacity_table(kOpacitySizeTexels, classic_settings_.max_product);
-    opacity_ = gl::make_texture_2d(GL_R32F, table.size, table.size);
-    glTextureSubImage2D(opacity_.id(), 0, 0, 0, table.size, table.size, GL_RED, GL_FLOAT, table.values.data());
+    opacity_buffer_ = gl::make_buffer(GLsizeiptr(table.values.size() * sizeof(float)), table.values.data());
+    opacity_ = gl::Texture::create(GL_TEXTURE_BUFFER);
+    glTextureBuffer(opacity_.id(), GL_R32F, opacity_buffer_.id());
     FX_GL_CHECK("absorption: opacity table");
     table_bytes_ += table.values.size() * sizeof(float);
     opacity_ready_ = true;
@@ -247,7 +257,7 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
         const GLuint old_index = index_.id();
         upload(index_, index_capacity_, part.indices.data(), part.indices.size() * sizeof(std::uint32_t));
         if (index_.id() != old_index) glVertexArrayElementBuffer(vao_.id(), index_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
+        glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
         glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
         stats.draw_calls += 1;
     }

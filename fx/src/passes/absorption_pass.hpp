@@ -92,7 +92,7 @@ private:
     gl::Buffer frame_, index_;
     std::size_t frame_capacity_ = 0, index_capacity_ = 0;
     gl::Texture opacity_, preintegration_;
-    gl::Buffer preintegration_buffer_;
+    gl::Buffer preintegration_buffer_, opacity_buffer_;
     bool opacity_ready_ = false, preintegration_ready_ = false;
     double s_lo_ = 0.0, s_per_unit_ = 0.0, l_per_unit_ = 0.0;
     std::size_t table_bytes_ = 0;
