@@ -21,7 +21,7 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     const glm::dmat4 vp = camera.projection_matrix(aspect) * view.view;
     cell_footprints(mesh, geometry, view, vp, projected_, caps_, viewport.width, viewport.height, options.batch_tile,
                     footprints_);
-    const std::uint32_t batches = batch_footprints(footprints_, batch_of_);
+    const std::uint32_t batches = batch_footprints(footprints_, batch_of_, masks_);
 
     // Counting sort of cells by batch, then the caps (as fan triangles) grouped the same way.
     cell_start_.assign(batches + 1, 0);

@@ -36,6 +36,7 @@ private:
     CellFootprints footprints_;
     std::vector<std::uint32_t> batch_of_, cell_start_, cap_start_, fill_, list_cells_;
     std::vector<glm::vec2> list_ranges_;
+    std::vector<std::uint64_t> masks_;
     std::vector<std::vector<std::uint32_t>> caps_of_batch_;
     std::vector<glm::uvec4> cap_data_;
 };

@@ -75,7 +75,10 @@ VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method) : method
     case SortMethod::Xmpvo: {
         const FaceTopology topology = build_face_topology(mesh);
         graph_ = std::make_shared<sort_detail::FaceGraph>(mesh, topology);
-        if (method == SortMethod::Xmpvo) exterior_ = std::make_shared<sort_detail::ExteriorFaces>(mesh, topology);
+        if (method == SortMethod::Xmpvo) {
+            exterior_ = std::make_shared<sort_detail::ExteriorFaces>(mesh, topology);
+            exterior_edges_ = std::make_shared<sort_detail::ExteriorEdges>();
+        }
         break;
     }
     }
@@ -88,9 +91,8 @@ void VisibilitySort::sort(const Camera& camera, std::vector<std::uint32_t>& back
     if (keys_) {
         keys_->sort(camera, back_to_front, s);
     } else {
-        sort_detail::ExteriorEdges exterior;
-        if (exterior_) exterior_->edges(camera, exterior, s);
-        graph_->sort(camera, exterior_ ? &exterior : nullptr, back_to_front, s);
+        if (exterior_) exterior_->edges(camera, *exterior_edges_, s);
+        graph_->sort(camera, exterior_ ? exterior_edges_.get() : nullptr, back_to_front, s);
     }
     s.cells = back_to_front.size();
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
