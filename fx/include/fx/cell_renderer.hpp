@@ -23,8 +23,7 @@
 //              cells at transfer-function breakpoints sliced (§V). CPU work per frame.
 //   absorption-exact  the same order, one draw: per fragment entry/exit through the cell's
 //              planes and a pre-integration table over (s_front, s_back, length), float target.
-//              Both cut the cells with problem faces (§V) into tetrahedra for the view, and
-//              need positively oriented cells (an inverted one throws fx::Error naming it).
+//              Both cut the cells with problem faces (§V) into tetrahedra for the view.
 //              docs/absorption.md: tolerances, limits, timings.
 //
 // STEP BY STEP (a game loop):
@@ -39,8 +38,12 @@
 // CellRenderOptions::scene_depth nothing is depth-tested against the scene; with it the volume
 // stops at the scene's surfaces (fog ends at the ground, hills hide what is behind them).
 //
-// Ownership: owns its GL buffers, textures, programs and internal render targets (move-only;
-// destroy it while its context is current). Preconditions: a GL 4.5 core context current on
+// Inverted cells (faces wound inward) are drawn as their positive versions on every path (the
+// renderer orients its copy of the mesh: fx::orient_cells).
+//
+// Ownership: owns its GL buffers, textures and internal render targets, and shares the GL
+// programs of its context with every other renderer there (move-only; destroy it while its
+// context is current). Preconditions: a GL 4.5 core context current on
 // the calling thread for every call; the mesh valid (validate_mesh) with convex cells.
 #pragma once
 

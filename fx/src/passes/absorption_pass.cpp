@@ -14,7 +14,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "fx/error.hpp"
-#include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "parallel_tasks.hpp"
 #include "gl/gl_check.hpp"
@@ -44,9 +43,8 @@ AbsorptionPass::AbsorptionPass(GlProjector& projector)
       subdivision_(projector.mesh()), exact_list_(projector) {
     const CellMesh& mesh = projector.mesh();
     const ProjectorGeometry& geometry = projector.geometry();
-    // The longest chord of a convex cell is at most its bounding-box diagonal. Faces must wind
-    // outward: front and back, entry and exit are told apart by it, and an inverted cell would
-    // be drawn inside out rather than rejected.
+    // The longest chord of a convex cell is at most its bounding-box diagonal. (The projector
+    // has oriented every cell: faces wind outward.)
     double longest = 0.0;
     for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
         const std::uint32_t* cv = mesh.cell_vertices(c);
@@ -55,11 +53,7 @@ AbsorptionPass::AbsorptionPass(GlProjector& projector)
             const glm::dvec3 p(geometry.positions[cv[i]]);
             lo = glm::min(lo, p), hi = glm::max(hi, p);
         }
-        const double diagonal = glm::length(hi - lo);
-        longest = std::max(longest, diagonal);
-        if (cell_signed_volume(mesh, c) < -1e-9 * diagonal * diagonal * diagonal)
-            throw Error("absorption: cell " + std::to_string(c) + " (" + cell_type_name(mesh.cell_types[c]) +
-                        ") is inverted: its faces wind inward (fx::orient_cells fixes the mesh)");
+        longest = std::max(longest, glm::length(hi - lo));
     }
     max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
 

@@ -11,6 +11,7 @@
 
 #include "fx/error.hpp"
 #include "fx/face_topology.hpp"
+#include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
@@ -178,9 +179,12 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
     } else if (!source.scalars.empty()) {
         field = &source.scalars[0];
     }
-    geometry_ = build_projector_geometry(source, field);
-    field_range_ = field ? scalar_range(*field) : ScalarRange{0.0f, 0.0f};
+    // Inverted cells (faces wound inward: negative volume) are drawn as their mirror-consistent
+    // positive versions, so that front and back, entry and exit mean the same in every cell.
     mesh_ = source;
+    orient_cells(mesh_);
+    geometry_ = build_projector_geometry(mesh_, field);
+    field_range_ = field ? scalar_range(*field) : ScalarRange{0.0f, 0.0f};
     mesh_.scalars.clear(); // the geometry holds the one field in use
     unique_faces_ready_ = false;
     unique_faces_.clear();

@@ -31,6 +31,10 @@
 //   after the mesh's triangles, room for the planes and scalar functions of the tetrahedra a
 //   frame makes (upload_pieces: the absorption paths' view-dependent subdivision).
 //
+// Cells whose faces wind inward (negative volume, e.g. from a VTK file written with the other
+// convention) are oriented when the mesh is uploaded (orient_cells), so every path draws them as
+// their positive versions.
+//
 // Ownership: move-only through std::unique_ptr; its GL objects belong to the context current
 // when it was made, which must be current for every call and for destruction.
 // Preconditions: the mesh passed validate_mesh() (indices in range, finite values).
@@ -80,7 +84,9 @@ public:
     void set_scalars(const std::vector<float>& values);
     void set_transfer_function(const TransferFunction& tf);
 
-    const CellMesh& mesh() const { return mesh_; } // topology (its fields cleared: geometry has the one in use)
+    // The mesh as drawn: inverted cells oriented (orient_cells), fields cleared (the geometry
+    // has the one in use).
+    const CellMesh& mesh() const { return mesh_; }
     const ProjectorGeometry& geometry() const { return geometry_; }
     const TransferFunction& transfer_function() const { return transfer_; } // in the field's units
     std::size_t gpu_bytes() const { return bytes_; }
