@@ -9,8 +9,8 @@
 // thickness coordinate u is scaled by it (the polygon colour is kept, an approximation).
 #include "project.glsl"
 
-layout(binding = 1) uniform sampler2D u_opacity; // R32F, size × size, u along x
-layout(location = 9) uniform int u_opacity_size;
+layout(binding = UNIT_OPACITY) uniform samplerBuffer u_opacity; // R32F, size × size, u along x
+layout(location = UNIFORM_OPACITY_SIZE) uniform int u_opacity_size;
 
 layout(location = 0) noperspective in vec2 v_uv;
 layout(location = 1) noperspective in vec3 v_color;
@@ -23,8 +23,9 @@ float opacity(vec2 uv) {
     vec2 x = clamp(uv, 0.0, 1.0) * float(u_opacity_size - 1);
     ivec2 i = min(ivec2(x), ivec2(u_opacity_size - 2));
     vec2 f = x - vec2(i);
-    float a = texelFetch(u_opacity, i, 0).r, b = texelFetch(u_opacity, i + ivec2(1, 0), 0).r;
-    float c = texelFetch(u_opacity, i + ivec2(0, 1), 0).r, d = texelFetch(u_opacity, i + ivec2(1, 1), 0).r;
+    int k = i.y * u_opacity_size + i.x;
+    float a = texelFetch(u_opacity, k).r, b = texelFetch(u_opacity, k + 1).r;
+    float c = texelFetch(u_opacity, k + u_opacity_size).r, d = texelFetch(u_opacity, k + u_opacity_size + 1).r;
     return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
 }
 

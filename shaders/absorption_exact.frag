@@ -1,7 +1,8 @@
 #version 450 core
 // Based on: Max, Williams & Silva 2000, §II (the volume density model, composited back to
-// front with "over") made exact per fragment. Drawn on the BACK faces of every item (front
-// faces culled), items in visibility order: each fragment is where its ray leaves the cell.
+// front with "over") made exact per fragment. Drawn on the BACK faces of every cell (front
+// faces culled), cells in visibility order (the frame's triangle list and words: absorption
+// pass), so each pixel a cell covers gets one fragment, in order.
 // The segment inside the cell comes from cell_segment.glsl (exact entry through the cell's
 // planes, clamped to the near plane — so a camera inside the mesh composites only what lies
 // ahead — and to the scene's surface where one is given); colour and opacity come from the
@@ -9,17 +10,14 @@
 // from the exact integrals, interpolated trilinearly here in full float. Output premultiplied,
 // into a float target with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA).
 #include "project.glsl"
-#include "absorption_items.glsl"
 #include "cell_segment.glsl"
 
-layout(location = 0) in vec3 v_position;
-layout(location = 1) in float v_scalar;
-layout(location = 2) flat in uvec4 v_item;
-
-// x = s_front, y = s_back (n_s samples of [s_lo, s_hi]), z = length (n_l samples of [0, max]).
-layout(binding = 2) uniform sampler3D u_preintegration;
-layout(location = 7) uniform vec3 u_preint;        // s_lo, samples per unit s, samples per unit length
-layout(location = 8) uniform ivec3 u_preint_size; // n_s, n_s, n_l
+// Entry (il·n_s + ib)·n_s + if: s_front = if, s_back = ib (n_s samples of [s_lo, s_hi]), length
+// = il (n_l samples of [0, max]); a buffer texture, so that each of the eight texels of the
+// trilinear interpolation costs one add.
+layout(binding = UNIT_PREINTEGRATION) uniform samplerBuffer u_preintegration;
+layout(location = UNIFORM_PREINTEGRATION) uniform vec3 u_preint;        // s_lo, samples per unit s, samples per unit length
+layout(location = UNIFORM_PREINTEGRATION_SIZE) uniform ivec3 u_preint_size; // n_s, n_s, n_l
 
 layout(location = 0) out vec4 o_color;
 
@@ -28,33 +26,16 @@ vec4 preintegrated(float s_front, float s_back, float l) {
     x = clamp(x, vec3(0.0), vec3(u_preint_size - 1)); // held end values; longer than any cell: the last
     ivec3 i = min(ivec3(x), u_preint_size - 2);
     vec3 f = x - vec3(i);
-    vec4 c00 = mix(texelFetch(u_preintegration, i, 0), texelFetch(u_preintegration, i + ivec3(1, 0, 0), 0), f.x);
-    vec4 c10 = mix(texelFetch(u_preintegration, i + ivec3(0, 1, 0), 0), texelFetch(u_preintegration, i + ivec3(1, 1, 0), 0), f.x);
-    vec4 c01 = mix(texelFetch(u_preintegration, i + ivec3(0, 0, 1), 0), texelFetch(u_preintegration, i + ivec3(1, 0, 1), 0), f.x);
-    vec4 c11 = mix(texelFetch(u_preintegration, i + ivec3(0, 1, 1), 0), texelFetch(u_preintegration, i + ivec3(1, 1, 1), 0), f.x);
+    int n = u_preint_size.x, nn = n * u_preint_size.y;
+    int b = (i.z * u_preint_size.y + i.y) * n + i.x;
+    vec4 c00 = mix(texelFetch(u_preintegration, b), texelFetch(u_preintegration, b + 1), f.x);
+    vec4 c10 = mix(texelFetch(u_preintegration, b + n), texelFetch(u_preintegration, b + n + 1), f.x);
+    vec4 c01 = mix(texelFetch(u_preintegration, b + nn), texelFetch(u_preintegration, b + nn + 1), f.x);
+    vec4 c11 = mix(texelFetch(u_preintegration, b + nn + n), texelFetch(u_preintegration, b + nn + n + 1), f.x);
     return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
 }
 
-int cell_triangle_count() { return item_triangle_count(v_item); }
-CellTriangle cell_triangle(int k) {
-    CellTriangle t;
-    if (v_item.y == kWholeCell) {
-        Triangle tri = triangles[cell_first_triangle[v_item.x] + uint(k)];
-        t.v = tri.v.xyz;
-        t.plane = tri.plane;
-    } else { // a tetrahedron of a subdivided cell: its planes are made here
-        t.v = item_triangle_points(v_item, k);
-        vec3 a = points[t.v.x].xyz, b = points[t.v.y].xyz, c = points[t.v.z].xyz;
-        vec3 n = cross(b - a, c - a);
-        float len = length(n);
-        t.plane = len > 0.0 ? vec4(n / len, dot(n / len, (a + b + c) / 3.0)) : vec4(0.0);
-    }
-    return t;
-}
-
 void main() {
-    Ray ray = pixel_ray(v_position);
-    float t_exit = dot(v_position - ray.origin, ray.dir);
-    CellSegment segment = cell_segment(ray, t_exit, v_scalar);
+    CellSegment segment = cell_segment(fragment_ray(gl_FragCoord.xy));
     o_color = preintegrated(segment.s_in, segment.s_out, segment.length);
 }

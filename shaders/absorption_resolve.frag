@@ -2,8 +2,10 @@
 // Absorption paths: the accumulation target already holds premultiplied colour and alpha
 // ("over" of every cell, back to front); drawn over the host's framebuffer with blend
 // ONE, ONE_MINUS_SRC_ALPHA (shaders/fullscreen.vert), so the host's frame is the background.
-layout(binding = 0) uniform sampler2D u_accumulation;
-layout(location = 0) uniform ivec2 u_origin; // viewport origin in the host framebuffer
+#include "projector_interface.glsl"
+
+layout(binding = UNIT_ACCUMULATION) uniform sampler2D u_accumulation;
+layout(location = UNIFORM_RESOLVE_ORIGIN) uniform ivec2 u_origin; // viewport origin in the host framebuffer
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;

@@ -1,35 +1,38 @@
-// The segment of a pixel's ray inside one convex cell, shared by the exact per-fragment paths
+// The segment of a pixel's ray inside one cell, shared by the exact per-fragment paths
 // (pcp_exact.frag, absorption_exact.frag). Needs project.glsl first. Drawn on a cell's BACK
-// faces, a fragment is where its ray leaves the cell; the including shader says which
-// triangles bound the cell by defining the two functions declared here.
+// faces, a fragment is where its pixel's ray (fragment_ray) leaves the cell.
 //
-// Entry: for a convex cell, the last front-facing plane the ray crosses (Cyrus–Beck: one dot
-// product per triangle). The two triangles of a planar quad tie, and a curvilinear cell (quads
-// not planar) can make the last plane one whose triangle the ray misses: so the winner's hit
-// point must lie in its triangle, and only if it does not are all candidates searched by
-// containment (a triangle that contains its hit point beats one that does not, then the
-// larger parameter wins). The scalar at the entry is barycentric on the entry triangle (face-
-// linear, as the scan-line reference does) and linear along the ray. The segment then starts
-// at the near plane if the entry lies in front of it (caps for free) and ends at the scene's
-// opaque surface (CellRenderOptions::scene_depth), the scalar interpolated to each cut.
+// The cell's word comes from cells.vert (flat): where its triangles' data start and how many
+// there are. No other varying is interpolated: the ray is the pixel's, and where the
+// fragment's own back face lies along it comes from gl_FragCoord (its depth).
+//
+// A tetrahedron is convex with one plane per face: clipping the ray by its four planes
+// (Cyrus–Beck: one dot product each) gives the entry, the last front-facing plane crossed, and
+// the exit, the first back-facing one. Other cells need more care: the two triangles of a
+// planar quad tie, a curvilinear cell's folded quads can make the winning plane one whose
+// triangle the ray misses, and a cell that folds inwards can be left and re-entered by one ray
+// (two back faces on one pixel, each of which must count its own part only). So there the exit
+// is the back-facing crossing nearest the fragment's own depth, and the entry the last
+// front-facing crossing before it (or, by rounding, just after it: then there is no segment); each must lie in its triangle (barycentric rows,
+// UNIT_BARYCENTRICS), else the other half of its quad is tried, else every triangle facing the
+// ray that way (one containing its crossing beats one that does not).
+//
+// The scalar at either end is face-linear on the triangle crossed (as the scan-line reference
+// has it), from that triangle's scalar function g·q + s0 — for a tetrahedron the cell's own
+// linear function: no barycentrics. Between entry and exit the scalar is linear along the ray.
+// The segment then starts at the near plane if the entry lies in front of it (caps for free)
+// and ends at the scene's opaque surface (CellRenderOptions::scene_depth), the scalar
+// interpolated to each cut.
 
-struct CellTriangle {
-    uvec3 v;    // point ids, counter-clockwise seen from outside
-    vec4 plane; // outward unit normal, w = n·p; zero for a zero-area triangle
-};
-int cell_triangle_count();            // of the fragment's cell (defined by the including shader)
-CellTriangle cell_triangle(int k);    // k in [0, cell_triangle_count())
+layout(location = 0) flat in uint v_word;
+layout(binding = UNIT_PLANES) uniform samplerBuffer u_planes;                     // outward unit normal, n·p
+layout(binding = UNIT_SCALAR_FUNCTIONS) uniform samplerBuffer u_scalar_functions; // g, s0
+layout(binding = UNIT_BARYCENTRICS) uniform samplerBuffer u_barycentrics;         // 2 rows per triangle
 
-// Barycentric coordinates of q (on the triangle's plane) with respect to triangle (a, b, c).
-vec3 barycentric(vec3 a, vec3 b, vec3 c, vec3 q) {
-    vec3 e0 = b - a, e1 = c - a, e2 = q - a;
-    float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(e2, e0), d21 = dot(e2, e1);
-    float den = d00 * d11 - d01 * d01;
-    if (!(den > 0.0)) return vec3(1.0, 0.0, 0.0);
-    float wb = (d11 * d20 - d01 * d21) / den, wc = (d00 * d21 - d01 * d20) / den;
-    return vec3(1.0 - wb - wc, wb, wc);
-}
-vec3 triangle_barycentric(uvec3 v, vec3 q) { return barycentric(points[v.x].xyz, points[v.y].xyz, points[v.z].xyz, q); }
+// Below this |n·d| a plane is parallel to the ray (unit vectors: a sine of 1e-6 rad).
+const float kGrazing = 1e-6;
+// Barycentric slack for crossings on shared edges.
+const float kInside = -1e-4;
 
 struct CellSegment {
     float s_in, s_out; // scalar where the segment starts and ends
@@ -37,67 +40,127 @@ struct CellSegment {
     float t_in;        // ray parameter where it starts (t_in + length: where it ends)
 };
 
-// The segment of `ray` from its entry into the cell to (t_exit, s_exit), where it leaves.
-CellSegment cell_segment(Ray ray, float t_exit, float s_exit) {
-    const float kInside = -1e-4; // barycentric slack for hits on shared edges
-    int n = cell_triangle_count();
-    float t_front = -3.4e38;
-    int front = -1;
-    for (int k = 0; k < n; ++k) {
-        vec4 plane = cell_triangle(k).plane;
-        float denom = dot(plane.xyz, ray.dir);
-        if (denom >= -1e-6) continue; // back-facing for this ray, or grazing: cannot bound it
-        float tt = (plane.w - dot(plane.xyz, ray.origin)) / denom;
-        if (tt > t_front) t_front = tt, front = k;
-    }
-    float s_front = s_exit;
-    if (front >= 0) {
-        uvec3 best = cell_triangle(front).v;
-        vec3 bary = triangle_barycentric(best, ray.origin + ray.dir * t_front);
-        if (min(bary.x, min(bary.y, bary.z)) < kInside) {
-            bool front_inside = false;
-            t_front = -3.4e38;
-            for (int k = 0; k < n; ++k) {
-                CellTriangle c = cell_triangle(k);
-                float denom = dot(c.plane.xyz, ray.dir);
-                if (denom >= -1e-6) continue;
-                float tt = (c.plane.w - dot(c.plane.xyz, ray.origin)) / denom;
-                vec3 b = triangle_barycentric(c.v, ray.origin + ray.dir * tt);
-                bool inside = min(b.x, min(b.y, b.z)) >= kInside;
-                if ((inside && !front_inside) || (inside == front_inside && tt > t_front)) {
-                    t_front = tt, front_inside = inside, bary = b, best = c.v;
-                }
-            }
-        }
-        t_front = min(t_front, t_exit);
-        bary = max(bary, vec3(0.0)); // the entry can stray outside its triangle by rounding
-        bary /= max(bary.x + bary.y + bary.z, 1e-20);
-        s_front = dot(bary, vec3(points[best.x].w, points[best.y].w, points[best.z].w));
-    } else {
-        t_front = t_exit; // degenerate cell: no entry plane, no thickness
-    }
+bool contains(int triangle, vec3 q) {
+    vec4 r1 = texelFetch(u_barycentrics, 2 * triangle), r2 = texelFetch(u_barycentrics, 2 * triangle + 1);
+    float b1 = dot(r1.xyz, q) + r1.w, b2 = dot(r2.xyz, q) + r2.w;
+    return min(1.0 - b1 - b2, min(b1, b2)) >= kInside;
+}
 
-    // Near plane: the segment starts there if the entry lies in front of it.
-    float t_near = near_plane_t(ray);
-    float t_in = t_front, s_in = s_front;
-    if (t_near > t_front) {
-        float span = t_exit - t_front;
-        float f = span > 0.0 ? clamp((t_near - t_front) / span, 0.0, 1.0) : 1.0;
-        s_in = mix(s_front, s_exit, f);
-        t_in = min(t_near, t_exit);
+// Parameter where `ray` crosses the plane of `triangle`, if it faces the ray the `side` way
+// (−1 front, +1 back); false if not (or grazing).
+bool crossing(int triangle, float side, Ray ray, out float t) {
+    vec4 plane = texelFetch(u_planes, triangle);
+    float den = dot(plane.xyz, ray.dir);
+    t = (plane.w - dot(plane.xyz, ray.origin)) / den;
+    return den * side > kGrazing;
+}
+
+// Makes (k, t), the winner by planes alone, a crossing that lies in its triangle, among the
+// cell's triangles facing the ray the `side` way: an entry (side −1) the last one before `limit`
+// (the exit), an exit (side +1) the one nearest `limit` (the fragment's own depth). False if
+// none does (the ray misses the cell).
+bool resolve_crossing(int first, int triangles, float side, Ray ray, float limit, inout int k, inout float t) {
+    if (contains(first + k, ray.origin + ray.dir * t)) return true;
+    float t_other;
+    if (quad_half(triangles, k) && crossing(first + (k ^ 1), side, ray, t_other) &&
+        contains(first + (k ^ 1), ray.origin + ray.dir * t_other)) {
+        k ^= 1, t = t_other;
+        return true;
     }
-    // Scene depth: the segment ends at the opaque surface.
-    float t_scene = scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy));
-    if (t_scene < t_exit) {
-        float span = t_exit - t_in;
-        float f = span > 0.0 ? clamp((t_scene - t_in) / span, 0.0, 1.0) : 0.0;
-        s_exit = mix(s_in, s_exit, f);
-        t_exit = max(t_scene, t_in);
+    bool best_inside = false;
+    float best_t = t;
+    for (int j = 0; j < triangles; ++j) {
+        float tj;
+        if (!crossing(first + j, side, ray, tj) || (side < 0.0 && tj > limit)) continue;
+        bool inside = contains(first + j, ray.origin + ray.dir * tj);
+        bool better = side < 0.0 ? tj > best_t : abs(tj - limit) < abs(best_t - limit);
+        if ((inside && !best_inside) || (inside == best_inside && better)) best_inside = inside, best_t = tj, k = j;
     }
+    t = best_t;
+    return best_inside;
+}
+
+float face_scalar(int triangle, Ray ray, float t) {
+    vec4 f = texelFetch(u_scalar_functions, triangle);
+    return dot(f.xyz, ray.origin + ray.dir * t) + f.w;
+}
+
+// Where this fragment lies along its pixel's ray: 1/w of a perspective projection, linear in
+// window depth for an orthographic one (whose rays start on the eye plane).
+float fragment_t(Ray ray) {
+    if (u_orthographic != 0) return mix(u_scene_depth_range.x, u_scene_depth_range.y, gl_FragCoord.z);
+    return (1.0 / gl_FragCoord.w) / max(dot(ray.dir, u_forward), 1e-6);
+}
+
+// The segment of this fragment's pixel ray in its cell, from the entry and exit parameters
+// t_front < t_back and the scalar there: cut to the near plane and to the scene's surface.
+CellSegment clipped_segment(Ray ray, float t_front, float t_back, float s_front, float s_back) {
+    float t_in = max(t_front, near_plane_t(ray));
+    float t_out = min(t_back, scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy)));
+    float span = t_back - t_front;
     CellSegment segment;
-    segment.s_in = s_in;
-    segment.s_out = s_exit;
-    segment.length = max(t_exit - t_in, 0.0);
+    segment.length = max(t_out - t_in, 0.0);
+    segment.s_in = mix(s_front, s_back, span > 0.0 ? clamp((t_in - t_front) / span, 0.0, 1.0) : 0.0);
+    segment.s_out = mix(s_front, s_back, span > 0.0 ? clamp((t_out - t_front) / span, 0.0, 1.0) : 1.0);
     segment.t_in = t_in;
     return segment;
 }
+
+#if VERTICES_PER_CELL == 4
+// Every cell a tetrahedron: Cyrus–Beck through its four planes, the scalar its linear function
+// along the ray (s = g·(o + t·d) + s0). No branch: Mesa's llvmpipe runs both sides of every
+// branch some fragment of a batch takes.
+CellSegment cell_segment(Ray ray) {
+    int first = int(v_word >> uint(WORD_COUNT_BITS));
+    float t_front = -3.4e38, t_back = 3.4e38;
+    for (int k = 0; k < 4; ++k) {
+        vec4 plane = texelFetch(u_planes, first + k);
+        float den = dot(plane.xyz, ray.dir);
+        float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
+        t_front = den < -kGrazing ? max(t_front, t) : t_front;
+        t_back = den > kGrazing ? min(t_back, t) : t_back;
+    }
+    vec4 f = texelFetch(u_scalar_functions, first);
+    float s_origin = dot(f.xyz, ray.origin) + f.w, s_step = dot(f.xyz, ray.dir);
+    float t_in = max(t_front, near_plane_t(ray));
+    float t_out = min(t_back, scene_ray_t(ray, scene_view_depth(gl_FragCoord.xy)));
+    CellSegment segment;
+    segment.length = t_back > t_front ? max(t_out - t_in, 0.0) : 0.0; // empty: degenerate, or missed by rounding
+    segment.s_in = s_origin + s_step * t_in;
+    segment.s_out = s_origin + s_step * max(t_out, t_in);
+    segment.t_in = t_in;
+    return segment;
+}
+#else
+CellSegment cell_segment(Ray ray) {
+    int first = int(v_word >> uint(WORD_COUNT_BITS)), triangles = int(v_word & ((1u << uint(WORD_COUNT_BITS)) - 1u)) + 1;
+    float t_front = -3.4e38, t_back = 3.4e38;
+    int front = -1, back = -1;
+    // The exit nearest the fragment, then the last entry before it (for a convex cell: the
+    // first back-facing and the last front-facing plane crossed).
+    float t_own = fragment_t(ray);
+    float fronts[12]; // crossing of each front-facing plane, −3.4e38 for the others
+    for (int k = 0; k < triangles; ++k) {
+        vec4 plane = texelFetch(u_planes, first + k);
+        float den = dot(plane.xyz, ray.dir);
+        float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
+        fronts[k] = den < -kGrazing ? t : -3.4e38;
+        if (den > kGrazing && abs(t - t_own) < abs(t_back - t_own)) t_back = t, back = k;
+    }
+    if (back >= 0) resolve_crossing(first, triangles, 1.0, ray, t_own, back, t_back);
+    // The last entry before the exit (one beyond it by no more than rounding still counts: a
+    // ray that grazes the cell's edge), and it must lie in its triangle: a ray that misses the
+    // cell by rounding crosses planes before the exit too, outside their triangles.
+    float limit = t_back + 1e-5 * abs(t_back);
+    for (int k = 0; k < triangles; ++k)
+        if (fronts[k] > t_front && fronts[k] <= limit) t_front = fronts[k], front = k;
+    if (front >= 0 && !resolve_crossing(first, triangles, -1.0, ray, limit, front, t_front)) front = -1;
+    if (front < 0 || back < 0 || !(t_back > t_front)) { // degenerate, or missed by rounding
+        CellSegment none;
+        none.s_in = none.s_out = none.length = none.t_in = 0.0;
+        return none;
+    }
+    return clipped_segment(ray, t_front, t_back, face_scalar(first + front, ray, t_front),
+                           face_scalar(first + back, ray, t_back));
+}
+#endif

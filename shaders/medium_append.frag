@@ -1,7 +1,7 @@
 #version 450 core
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (a pixel's crossings of every grid) — the
 // medium compositor's append pass (fx/medium_compositor.hpp): drawn on the BACK faces of every
-// cell of one volume (project.vert, the renderer's own buffers) into the compositor's own
+// cell of one volume (the renderer's GL projector: cells.vert, its buffers and uniforms) into the compositor's own
 // framebuffer (viewport pixels). Each fragment finds its ray's exact segment in the cell
 // (cell_segment.glsl: entry through the cell's planes, near plane, scene depth) and pushes it
 // onto its pixel's list; the other volumes mark the mask where they cover, the bulk volume
@@ -9,11 +9,6 @@
 #include "project.glsl"
 #include "cell_segment.glsl"
 #include "medium_lists.glsl"
-
-layout(location = 0) in vec3 v_position;
-layout(location = 1) in float v_scalar;
-layout(location = 2) flat in uint v_cell;
-layout(location = 6) flat in vec2 v_scalar_bounds;
 
 layout(location = 31) uniform uint u_volume;
 layout(location = 32) uniform uint u_capacity; // segments the pool holds
@@ -24,24 +19,12 @@ layout(binding = 1) uniform sampler2D u_mask;
 
 layout(location = 0) out float o_mask;
 
-int cell_triangle_count() { return int(cell_first_triangle[v_cell + 1u] - cell_first_triangle[v_cell]); }
-CellTriangle cell_triangle(int k) {
-    Triangle t = triangles[cell_first_triangle[v_cell] + uint(k)];
-    CellTriangle c;
-    c.v = t.v.xyz;
-    c.plane = t.plane;
-    return c;
-}
-
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     o_mask = 1.0;
     if (any(lessThan(p, u_region.xy)) || any(greaterThanEqual(p, u_region.xy + u_region.zw))) return;
     if (u_mask_mode == 1 && texelFetch(u_mask, p, 0).r < 0.5) return;
-    Ray ray = pixel_ray(v_position);
-    float t_exit = dot(v_position - ray.origin, ray.dir);
-    float s_exit = clamp(v_scalar, v_scalar_bounds.x, v_scalar_bounds.y); // see project.vert
-    CellSegment segment = cell_segment(ray, t_exit, s_exit);
+    CellSegment segment = cell_segment(fragment_ray(gl_FragCoord.xy));
     if (!(segment.length > 0.0)) return;
     uint index = atomicAdd(medium_count, 1u);
     if (index >= u_capacity) return; // counted: the compositor grows the pool and appends again

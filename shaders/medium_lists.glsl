@@ -5,8 +5,8 @@
 //                         else the first segment's index + 1
 //   medium_data[n + 5i ..] segment i: t_in, t_out, s_in, s_out (float bits), and
 //                         (next segment's index + 1) << 5 | volume
-// Binding 3 is project.glsl's per-frame buffer, unused by these passes (they draw the whole
-// mesh, project.vert's source 0).
+// Binding 3 is the projector's per-frame buffer (BINDING_FRAME: near-plane caps), which the
+// append pass's cells.vert does not use.
 layout(std430, binding = 3) coherent buffer MediumLists {
     uint medium_count;
     uint medium_pad[3];

@@ -1,6 +1,7 @@
 #version 450 core
 // Based on: Roettger & Ertl 2003, §3 and §5 — classic PCP, three passes per batch of cells
-// (fx/src/projector/cell_renderer.cpp sets blending and colour masks per pass):
+// (cells.vert with CELL_LIST and CLASSIC, caps.vert; fx/src/passes/pcp_pass.cpp sets blending
+// and colour masks per pass):
 //   pass 1  back faces  → alpha = (d − d_min)/Δd          (blend off, alpha only)
 //   pass 2  front faces → alpha −= (d − d_min)/Δd          (reverse subtract, alpha only)
 //           caps        → alpha −= (d_near − d_min)/Δd     (same, drawn after the front faces)
@@ -13,26 +14,26 @@
 // ~12% too dark, an error that would swamp the 8-bit one this path is kept to show.
 #include "project.glsl"
 
-layout(location = 0) in vec3 v_position;
 layout(location = 3) in float v_alpha;
 layout(location = 4) in vec3 v_color;
 layout(location = 5) flat in vec2 v_range; // d_min, Δd
 
-layout(location = 8) uniform int u_pass;
+layout(location = UNIFORM_PASS) uniform int u_pass;
 
 layout(location = 0) out vec4 o_color;
 
 void main() {
     if (u_pass == 3) {
-        float cos_theta = u_orthographic != 0 ? 1.0 : max(dot(normalize(v_position - u_eye), u_forward), 1e-3);
+        float cos_theta = u_orthographic != 0 ? 1.0 : max(dot(fragment_ray(gl_FragCoord.xy).dir, u_forward), 1e-3);
         o_color = vec4(v_color / cos_theta, 0.0);
-    } else if (u_scene_depth_mode == 0 || v_range.y <= 0.0) {
-        o_color = vec4(0.0, 0.0, 0.0, v_alpha);
     } else {
+        o_color = vec4(0.0, 0.0, 0.0, v_alpha);
+#ifdef SCENE_DEPTH
         // Scene depth: d clamped to the surface's, so back minus front is the length in front of
         // it (caps, at d = 0, are never behind a surface beyond the near plane).
         float d = v_alpha * v_range.y + v_range.x;
         float d_scene = scene_view_depth(gl_FragCoord.xy) - u_near;
-        o_color = vec4(0.0, 0.0, 0.0, clamp((min(d, d_scene) - v_range.x) / v_range.y, 0.0, 1.0));
+        if (v_range.y > 0.0) o_color.a = clamp((min(d, d_scene) - v_range.x) / v_range.y, 0.0, 1.0);
+#endif
     }
 }

@@ -5,8 +5,10 @@
 //   RESOLVE_FOG    rgb = E = ∫c·σ, a = τ = ∫σ: out = (E·(1 − e^−τ)/τ, 1 − e^−τ), i.e.
 //                  bg·e^−τ + c·(1 − e^−τ) for a medium of one colour c = E/τ (exact), the
 //                  optical-depth-weighted mean colour otherwise.
-layout(binding = 0) uniform sampler2D u_accumulation;
-layout(location = 0) uniform ivec2 u_origin; // viewport origin in the host framebuffer
+#include "projector_interface.glsl"
+
+layout(binding = UNIT_ACCUMULATION) uniform sampler2D u_accumulation;
+layout(location = UNIFORM_RESOLVE_ORIGIN) uniform ivec2 u_origin; // viewport origin in the host framebuffer
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;

@@ -101,4 +101,19 @@ inline void shuffle_point_ids(fx::CellMesh& mesh, std::mt19937& rng) {
     for (std::uint32_t& v : mesh.connectivity) v = perm[v];
 }
 
+// Mirrors the vertex order of every other cell (the inverse of fx::orient_cells: tetra swap
+// 1 and 2, pyramid reverse the base, wedge and hexahedron swap the end faces), so their faces
+// wind inward, as in a file written with the other convention.
+inline void invert_every_other_cell(fx::CellMesh& mesh) {
+    for (std::size_t c = 0; c < mesh.cell_count(); c += 2) {
+        std::uint32_t* v = mesh.cell_vertices(c);
+        switch (mesh.cell_types[c]) {
+        case fx::CellType::Tetra: std::swap(v[1], v[2]); break;
+        case fx::CellType::Pyramid: std::swap(v[1], v[3]); break;
+        case fx::CellType::Wedge: std::swap_ranges(v, v + 3, v + 3); break;
+        case fx::CellType::Hexahedron: std::swap_ranges(v, v + 4, v + 4); break;
+        }
+    }
+}
+
 } // namespace fx_test

@@ -221,6 +221,15 @@ TEST_CASE("paths vs scan-line: mixed cells (tetra, pyramid, wedge, hexahedron)",
     for (fx::RenderPath path : kPaths) compare_with_scanline("mixed", mesh, "s", rising(0.25), cam, path, 64, 12);
 }
 
+TEST_CASE("paths vs scan-line: mixed cells, every other one inverted (faces wound inward)", "[gl][pcp]") {
+    // The projector orients each cell when it uploads the mesh: inverted cells render as their
+    // positive versions, against the reference of the same (inverted) mesh.
+    fx::CellMesh mesh = mixed_with_tets(4);
+    fx_test::invert_every_other_cell(mesh);
+    const fx::Camera cam = perspective({2.3, -1.5, 1.8}, {0.5, 0.5, 0.5});
+    for (fx::RenderPath path : kPaths) compare_with_scanline("inverted", mesh, "s", rising(0.25), cam, path, 64, 12);
+}
+
 TEST_CASE("paths vs scan-line: noise-filled hex grid (campfire)", "[gl][pcp]") {
     const fx::CellMesh mesh = campfire(12);
     const fx::Camera cam = perspective({3.5, -4.0, 2.5}, {0.0, 0.0, 0.8});

@@ -76,22 +76,28 @@ bool cell_type_from_vtk(int vtk_type, CellType& type) {
     }
 }
 
-int triangulate_face(const CellFace& face, const std::uint32_t* cell_vertices, std::uint32_t out[2][3]) {
-    std::uint32_t g[4];
-    for (int i = 0; i < face.count; ++i) g[i] = cell_vertices[face.v[i]];
+int triangulate_face_local(const CellFace& face, const std::uint32_t* cell_vertices, std::uint8_t out[2][3]) {
     if (face.count == 3) {
-        out[0][0] = g[0], out[0][1] = g[1], out[0][2] = g[2];
+        out[0][0] = face.v[0], out[0][1] = face.v[1], out[0][2] = face.v[2];
         return 1;
     }
     // Start the fan at the smallest vertex: its diagonal is the only one through it.
     int k = 0;
     for (int i = 1; i < 4; ++i) {
-        if (g[i] < g[k]) k = i;
+        if (cell_vertices[face.v[i]] < cell_vertices[face.v[k]]) k = i;
     }
-    const std::uint32_t a = g[k], b = g[(k + 1) % 4], c = g[(k + 2) % 4], d = g[(k + 3) % 4];
+    const std::uint8_t a = face.v[k], b = face.v[(k + 1) % 4], c = face.v[(k + 2) % 4], d = face.v[(k + 3) % 4];
     out[0][0] = a, out[0][1] = b, out[0][2] = c;
     out[1][0] = a, out[1][1] = c, out[1][2] = d;
     return 2;
+}
+
+int triangulate_face(const CellFace& face, const std::uint32_t* cell_vertices, std::uint32_t out[2][3]) {
+    std::uint8_t local[2][3];
+    const int n = triangulate_face_local(face, cell_vertices, local);
+    for (int t = 0; t < n; ++t)
+        for (int i = 0; i < 3; ++i) out[t][i] = cell_vertices[local[t][i]];
+    return n;
 }
 
 void CellMesh::add_cell(CellType type, const std::uint32_t* vertices) {

@@ -66,9 +66,8 @@ double lookup_opacity(const OpacityTable& table, double u, double v);
 
 struct ClassicVertex {
     glm::vec4 position_uv; // NDC x, y; opacity-table coordinates u, v
-    glm::vec4 color;       // polygon colour C/α (rgb), a = 0
+    glm::vec3 color;       // polygon colour C/α
     glm::vec2 depth;       // view depths of the ray's entry and exit (a scene's surface cuts there)
-    glm::vec2 unused{0.0f};
 };
 
 struct ClassicGeometry {
@@ -122,6 +121,7 @@ private:
     ProjectedSubdivision subdivision_;
     ConvexPolyhedron poly_, clipped_, slab_, rest_;
     std::vector<double> f_, tau_;
+    std::vector<glm::dvec3> color_;
 };
 
 } // namespace fx

@@ -20,6 +20,11 @@ struct Ray {
     glm::dvec3 direction; // unit length
 };
 
+// A rectangle of the framebuffer, in pixels, (x, y) its lower left corner (glViewport's).
+struct Viewport {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+
 struct Camera {
     glm::dvec3 eye{0.0, 0.0, 5.0};
     glm::dvec3 target{0.0, 0.0, 0.0};

@@ -106,6 +106,8 @@ struct CellMesh {
 // is cut by the diagonal from its smallest global vertex index (Max, Williams & Silva 2000,
 // §IV), so the two cells sharing it always agree. Returns the number of triangles (1 or 2).
 int triangulate_face(const CellFace& face, const std::uint32_t* cell_vertices, std::uint32_t out[2][3]);
+// The same triangles as the cell's local vertex numbers (0 .. cell_vertex_count − 1).
+int triangulate_face_local(const CellFace& face, const std::uint32_t* cell_vertices, std::uint8_t out[2][3]);
 
 // Bounds of the points referenced by cells (unreferenced points are ignored). Empty bounds
 // (lo > hi) for a mesh with no cells.

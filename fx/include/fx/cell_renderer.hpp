@@ -23,8 +23,7 @@
 //              cells at transfer-function breakpoints sliced (§V). CPU work per frame.
 //   absorption-exact  the same order, one draw: per fragment entry/exit through the cell's
 //              planes and a pre-integration table over (s_front, s_back, length), float target.
-//              Both cut the cells with problem faces (§V) into tetrahedra for the view, and
-//              need positively oriented cells (an inverted one throws fx::Error naming it).
+//              Both cut the cells with problem faces (§V) into tetrahedra for the view.
 //              docs/absorption.md: tolerances, limits, timings.
 //
 // STEP BY STEP (a game loop):
@@ -39,8 +38,12 @@
 // CellRenderOptions::scene_depth nothing is depth-tested against the scene; with it the volume
 // stops at the scene's surfaces (fog ends at the ground, hills hide what is behind them).
 //
-// Ownership: owns its GL buffers, textures, programs and internal render targets (move-only;
-// destroy it while its context is current). Preconditions: a GL 4.5 core context current on
+// Inverted cells (faces wound inward) are drawn as their positive versions on every path (the
+// renderer orients its copy of the mesh: fx::orient_cells).
+//
+// Ownership: owns its GL buffers, textures and internal render targets, and shares the GL
+// programs of its context with every other renderer there (move-only; destroy it while its
+// context is current). Preconditions: a GL 4.5 core context current on
 // the calling thread for every call; the mesh valid (validate_mesh) with convex cells.
 #pragma once
 
@@ -53,6 +56,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
+#include "fx/parallel_for.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/visibility_sort.hpp"
 
@@ -66,10 +70,6 @@ inline constexpr RenderPath kRenderPaths[] = {RenderPath::Pcp, RenderPath::PcpEx
 const char* render_path_name(RenderPath path);
 // Parses a name given by render_path_name(); false for anything else.
 bool parse_render_path(std::string_view name, RenderPath& path);
-
-struct Viewport {
-    int x = 0, y = 0, width = 0, height = 0;
-};
 
 struct CellRenderOptions {
     // pcp-exact only: accumulate optical depth too and composite e^(−τ) over the background.
@@ -146,6 +146,11 @@ public:
     // a non-finite value (nothing is changed then).
     void set_scalars(const std::vector<float>& values);
 
+    // The job system for the CPU work a frame can split (the classic absorption path's
+    // projection, the exact one's per-frame index lists). Default: cellfx's own persistent pool
+    // (default_parallel_for()); a ParallelFor with no `run` makes that work serial.
+    void set_parallel_for(const ParallelFor& parallel_for);
+
     CellRenderStats render(const Camera& camera, const Viewport& viewport, RenderPath path,
                            const CellRenderOptions& options = {});
     // Renders into a new RGBA32F target cleared to 0 and reads it back: premultiplied, bottom
@@ -158,7 +163,7 @@ public:
     std::size_t gpu_bytes() const; // mesh buffers + tables
 
 private:
-    friend struct ProjectorAccess; // passes built on this renderer's mesh (fx/src/projector/projector_access.hpp)
+    friend struct ProjectorAccess; // passes built on this renderer's projector (fx/src/render/projector_access.hpp)
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

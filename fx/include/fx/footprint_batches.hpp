@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 
 #include "fx/cell_mesh.hpp"
 #include "fx/polyhedron_projector.hpp"
@@ -41,6 +42,9 @@ struct CellFootprints {
     int tiles_x = 0, tiles_y = 0;          // tiles across the viewport
     std::vector<std::uint32_t> first_span; // cell_count + 1 entries
     std::vector<TileSpan> spans;
+    // Scratch of cell_footprints(), kept with the result so that a steady frame allocates nothing.
+    std::vector<std::uint32_t> cap_of;
+    std::vector<glm::dvec2> points, hull;
 
     std::size_t cell_count() const { return first_span.empty() ? 0 : first_span.size() - 1; }
     bool empty(std::size_t cell) const { return first_span[cell] == first_span[cell + 1]; }
@@ -59,5 +63,8 @@ constexpr std::uint32_t kNoBatch = 0xFFFFFFFFu;
 // First-fit batches of footprints that share no tile. batch_of[c] = batch of cell c, kNoBatch
 // for empty footprints. Returns the number of batches.
 std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std::uint32_t>& batch_of);
+// The same with the caller's scratch for the batches' tile masks (kept between frames).
+std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std::uint32_t>& batch_of,
+                               std::vector<std::uint64_t>& masks);
 
 } // namespace fx

@@ -87,6 +87,7 @@ struct SortStats {
 namespace sort_detail {
 class FaceGraph;
 class ExteriorFaces;
+struct Scratch;
 class KeySort;
 } // namespace sort_detail
 
@@ -97,7 +98,9 @@ public:
     VisibilitySort(const CellMesh& mesh, SortMethod method);
 
     SortMethod method() const { return method_; }
-    // Every cell exactly once, back to front (farthest first), for this camera.
+    // Every cell exactly once, back to front (farthest first), for this camera. Reuses scratch
+    // kept with the per-mesh state, so that a steady sort allocates nothing. Safe from several
+    // threads at once: sorts on one object (or its copies, which share that state) take turns.
     void sort(const Camera& camera, std::vector<std::uint32_t>& back_to_front, SortStats* stats = nullptr) const;
     // Bytes of the per-mesh state (not counting the mesh).
     std::size_t memory_bytes() const;
@@ -112,6 +115,7 @@ private:
     std::shared_ptr<const sort_detail::KeySort> keys_;       // centroid, power
     std::shared_ptr<const sort_detail::FaceGraph> graph_;    // mpvo, xmpvo
     std::shared_ptr<const sort_detail::ExteriorFaces> exterior_; // xmpvo
+    std::shared_ptr<sort_detail::Scratch> scratch_;              // one sort's turn, xmpvo's edges
 };
 
 } // namespace fx

@@ -266,9 +266,9 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
     const std::size_t nv = subdivision_.vertices.size();
     if (subdivision_.polygon_count() == 0 || nv == 0) return;
     const std::uint32_t base = static_cast<std::uint32_t>(out.vertices.size());
-    out.vertices.resize(out.vertices.size() + nv);
     double l_max = 0.0, tau_max = 0.0;
-    tau_.clear();
+    tau_.resize(nv);
+    color_.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) {
         // The piece's scalar lies in [lo, hi] by construction; interpolation may round past
         // an end, which at a step would pick the other side's value.
@@ -294,27 +294,24 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
         }
         l_max = std::max(l_max, sv.thickness);
         tau_max = std::max(tau_max, tau_mean);
-        ClassicVertex& cv = out.vertices[base + i];
-        cv.position_uv = glm::vec4(float(sv.ndc.x), float(sv.ndc.y), 0.0f, 0.0f);
-        cv.color = glm::vec4(glm::vec3(color), 0.0f);
-        cv.depth = glm::vec2(float(sv.depth_front), float(sv.depth_back));
-        tau_.push_back(tau_mean);
+        tau_[i] = tau_mean;
+        color_[i] = color;
     }
     // Joint scaling of thickness and extinction for this piece (only u·v = l·τ_a/K matters).
     const double k = settings_.max_product;
     const double a = l_max > 0.0 && tau_max > 0.0 ? std::sqrt(l_max * k / tau_max) : 1.0;
     for (std::size_t i = 0; i < nv; ++i) {
-        glm::vec4& p = out.vertices[base + i].position_uv;
-        const double l = subdivision_.vertices[i].thickness, tau = tau_[i];
-        p.z = float(l / a);
-        p.w = float(tau * a / k);
+        const SubdivisionVertex& sv = subdivision_.vertices[i];
+        out.vertices.push_back({glm::vec4(float(sv.ndc.x), float(sv.ndc.y), float(sv.thickness / a), float(tau_[i] * a / k)),
+                                glm::vec3(color_[i]), glm::vec2(float(sv.depth_front), float(sv.depth_back))});
     }
     for (std::size_t q = 0; q < subdivision_.polygon_count(); ++q) {
         const std::uint32_t b = subdivision_.polygon_start[q], e = subdivision_.polygon_start[q + 1];
-        for (std::uint32_t i = b + 1; i + 1 < e; ++i)
-            out.indices.insert(out.indices.end(), {base + subdivision_.polygon_vertices[b],
-                                                   base + subdivision_.polygon_vertices[i],
-                                                   base + subdivision_.polygon_vertices[i + 1]});
+        for (std::uint32_t i = b + 1; i + 1 < e; ++i) {
+            out.indices.push_back(base + subdivision_.polygon_vertices[b]);
+            out.indices.push_back(base + subdivision_.polygon_vertices[i]);
+            out.indices.push_back(base + subdivision_.polygon_vertices[i + 1]);
+        }
     }
     out.polygons += subdivision_.polygon_count();
 }

@@ -157,8 +157,12 @@ void SubdivisionBuilder::tetrahedron(const ProjectionFrame& frame, const std::ar
     glm::dvec2 centre(0.0);
     for (const Projected& p : points_) centre += 0.25 * p.ndc;
     std::array<std::uint32_t, 4> h{0, 1, 2, 3};
-    std::array<double, 4> angle;
-    for (int i = 0; i < 4; ++i) angle[i] = std::atan2(points_[i].ndc.y - centre.y, points_[i].ndc.x - centre.x);
+    std::array<double, 4> angle; // a pseudo-angle: monotonic in the angle, no atan2
+    for (int i = 0; i < 4; ++i) {
+        const glm::dvec2 d = points_[i].ndc - centre;
+        const double r = d.y / (std::abs(d.x) + std::abs(d.y) + 1e-300); // in [−1, 1]
+        angle[i] = d.x >= 0.0 ? r : (d.y >= 0.0 ? 2.0 - r : -2.0 - r);
+    }
     std::sort(h.begin(), h.end(), [&](std::uint32_t a, std::uint32_t b) { return angle[a] < angle[b]; });
     const glm::dvec2 a = points_[h[0]].ndc, b = points_[h[2]].ndc, c = points_[h[1]].ndc, d = points_[h[3]].ndc;
     const double den = cross2(b - a, d - c);

@@ -41,7 +41,7 @@ namespace fx::gl {
 
 class StateGuard {
 public:
-    static constexpr int kUnits = 8;        // texture units / indexed buffer bindings saved (cellfx uses 0–3)
+    static constexpr int kUnits = 16;       // texture units / indexed buffer bindings saved (the projector uses 0–14)
     static constexpr int kTextureTargets = 11;
     static constexpr int kDrawBuffers = 8;  // indexed blend/colour-mask state saved (≤ GL max)
     static constexpr int kViewports = 16;   // indexed viewport/scissor/depth-range state saved (≤ GL max)

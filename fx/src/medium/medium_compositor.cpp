@@ -1,6 +1,6 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (intersecting grids integrated in depth
 // order per pixel), on the GPU with per-pixel lists of ray segments. Shaders:
-// medium_lists.glsl, medium_append.frag (with project.vert), medium_resolve.frag.
+// medium_lists.glsl, medium_append.frag (with the projector's cells.vert), medium_resolve.frag.
 #include "fx/medium_compositor.hpp"
 
 #include <algorithm>
@@ -18,14 +18,18 @@
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
+#include "gl/program_cache.hpp"
 #include "gl/shader_library.hpp"
 #include "gl/state_guard.hpp"
-#include "projector/projector_access.hpp"
+#include "projector/gl_interface.hpp"
+#include "render/projector_access.hpp"
 
 namespace fx {
 namespace {
 
-// Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag).
+// Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag). The append
+// program is also a projector program (gl_interface.hpp's table): these stay clear of the
+// locations, units and bindings its stages declare.
 enum Uniform : GLint {
     kRegion = 30,
     kVolume = 31,
@@ -72,7 +76,11 @@ glm::vec3 vec3f(const glm::dvec3& v) { return glm::vec3(v); }
 } // namespace
 
 struct MediumCompositor::Impl {
-    gl::Program append_program, resolve_program;
+    // The append program per mesh kind (index: all tetrahedra) from the context's shared cache,
+    // which this compositor keeps alive as long as it holds the pointers.
+    std::shared_ptr<gl::ProgramCache> program_cache;
+    std::array<ProgramVariants, 2> append_programs;
+    gl::Program resolve_program;
     gl::VertexArray vao;
     gl::Buffer lists;
     std::size_t lists_bytes = 0, capacity = 0, heads = 0;
@@ -118,7 +126,7 @@ struct MediumCompositor::Impl {
 MediumCompositor::MediumCompositor() : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
-    m.append_program = lib.link({"project.vert", "medium_append.frag"});
+    m.program_cache = gl::ProgramCache::for_current_context();
     m.resolve_program = lib.link({"fullscreen.vert", "medium_resolve.frag"});
     m.vao = gl::VertexArray::create();
     m.tables = gl::make_texture_2d(GL_RGBA32F, kTableSize, 2 * kMaxVolumes);
@@ -294,16 +302,28 @@ void MediumCompositor::Impl::clear_mask() {
 }
 
 void MediumCompositor::Impl::draw_append(const Append& a) {
-    const GLuint p = append_program.id();
-    // The scene depth's texel for pixel (i, j) is (viewport.x + i, viewport.y + j).
-    const GLsizei vertices = ProjectorAccess::bind(*a.renderer, p, a.local_camera, viewport, a.scene_depth);
+    const GlProjector& projector = ProjectorAccess::projector(*a.renderer);
+    ProgramVariants& variants = append_programs[projector.all_tetrahedra() ? 1 : 0];
+    if (!variants.plain) { // linked on first use (once per context: the cache shares them)
+        gl::Defines defines = projector.mesh_defines();
+        variants.plain = &program_cache->program(projector_shader_library(), {"cells.vert", "medium_append.frag"}, defines);
+        variants.with_scene_depth = &program_cache->program(projector_shader_library(),
+                                                            {"cells.vert", "medium_append.frag"}, defines.set("SCENE_DEPTH"));
+    }
+    const gl::Program& program = variants(a.scene_depth != 0);
+    const GLuint p = program.id();
+    projector.bind_mesh();
+    // Drawn into the mask's target: the viewport's size at the origin; the scene depth's texel
+    // for pixel (i, j) is (viewport.x + i, viewport.y + j).
+    projector.set_view_uniforms(program, a.local_camera, viewport);
+    projector.set_scene_depth_uniforms(program, a.local_camera, viewport, a.scene_depth);
+    GlProjector::bind_scene_depth(a.scene_depth);
     glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
     glProgramUniform1ui(p, kVolume, GLuint(a.volume));
     glProgramUniform1ui(p, kCapacity, GLuint(capacity));
     glProgramUniform1i(p, kMaskMode, int(a.volume) == bulk ? 1 : 0);
     glUseProgram(p);
-    glBindVertexArray(vao.id());
-    if (vertices > 0) glDrawArrays(GL_TRIANGLES, 0, vertices);
+    projector.draw_slots(0, projector.mesh().cell_count());
     FX_GL_CHECK("medium append");
 }
 

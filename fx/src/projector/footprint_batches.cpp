@@ -78,11 +78,13 @@ void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, co
     out.spans.clear();
 
     // The cap polygon of each cut cell (at most one per cell).
-    std::vector<std::uint32_t> cap_of(nc, kNoBatch);
+    std::vector<std::uint32_t>& cap_of = out.cap_of;
+    cap_of.assign(nc, kNoBatch);
     for (std::size_t k = 0; k < caps.polygon_count(); ++k) cap_of[caps.cell[k]] = std::uint32_t(k);
 
     const double far_d = view.far_distance - view.near_distance;
-    std::vector<glm::dvec2> points, hull;
+    std::vector<glm::dvec2>& points = out.points;
+    std::vector<glm::dvec2>& hull = out.hull;
     auto include = [&](const glm::dvec3& p) {
         const glm::dvec4 clip = view_projection * glm::dvec4(p, 1.0);
         if (!(clip.w > 0.0)) return;
@@ -120,19 +122,30 @@ void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, co
 }
 
 std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std::uint32_t>& batch_of) {
+    std::vector<std::uint64_t> masks;
+    return batch_footprints(footprints, batch_of, masks);
+}
+
+std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std::uint32_t>& batch_of,
+                               std::vector<std::uint64_t>& masks) {
     const std::size_t nc = footprints.cell_count();
     const std::size_t tiles_x = std::size_t(footprints.tiles_x);
+    const std::size_t tiles = tiles_x * std::size_t(footprints.tiles_y);
     batch_of.assign(nc, kNoBatch);
-    // masks[page][tile]: bit b set when batch page·64 + b touches the tile.
-    std::vector<std::vector<std::uint64_t>> masks;
+    // masks[page·tiles + tile]: bit b set when batch page·64 + b touches the tile.
+    std::size_t pages = 0;
     std::uint32_t batches = 0;
     for (std::size_t c = 0; c < nc; ++c) {
         if (footprints.empty(c)) continue;
         const TileSpan* begin = footprints.spans.data() + footprints.first_span[c];
         const TileSpan* end = footprints.spans.data() + footprints.first_span[c + 1];
         for (std::size_t page = 0;; ++page) {
-            if (page == masks.size()) masks.emplace_back(tiles_x * std::size_t(footprints.tiles_y), 0u);
-            std::vector<std::uint64_t>& m = masks[page];
+            if (page == pages) {
+                ++pages;
+                if (masks.size() < pages * tiles) masks.resize(pages * tiles);
+                std::fill(masks.begin() + std::ptrdiff_t(page * tiles), masks.begin() + std::ptrdiff_t(pages * tiles), 0u);
+            }
+            std::uint64_t* m = masks.data() + page * tiles;
             std::uint64_t used = 0;
             for (const TileSpan* s = begin; s != end && used != ~0ull; ++s)
                 for (std::size_t x = s->first; x <= s->last; ++x) used |= m[s->row * tiles_x + x];

@@ -31,6 +31,8 @@
 #include "fx/resource_limits.hpp"
 
 namespace fx::sort_detail {
+using Projection = ExteriorProjection;
+
 namespace {
 
 using clock_type = std::chrono::steady_clock;
@@ -41,17 +43,6 @@ double seconds_since(clock_type::time_point t0) {
 
 // A projected boundary triangle: counter-clockwise convex polygon (≤ 4 vertices after the
 // near-plane clip) in image coordinates (x/depth, y/depth; x, y for orthographic cameras).
-struct Projection {
-    double x[4], y[4];
-    int count;
-    double lo_x, lo_y, hi_x, hi_y;
-    double depth_lo, depth_hi; // view depth range of the clipped triangle
-    double area;
-    std::uint32_t triangle; // index into ExteriorFaces::triangles_
-    std::uint32_t cell;
-    bool big; // covers too many tiles: tested outside the tiles
-};
-
 // Keeps the part of triangle q (eye space: x, y, depth) with depth ≥ near.
 int clip_to_near(const glm::dvec3 q[3], double near, glm::dvec3 out[4]) {
     int count = 0;
@@ -134,7 +125,9 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
     const double near = camera.near_distance;
 
     // Project the triangles that face towards (front) or away from (back) the eye.
-    std::vector<Projection> front, back;
+    std::vector<Projection>& front = front_;
+    std::vector<Projection>& back = back_;
+    front.clear(), back.clear();
     for (const Triangle& tri : triangles_) {
         const glm::dvec3 a = mesh_.points[tri.v[0]];
         const glm::dvec3 normal = glm::cross(mesh_.points[tri.v[1]] - a, mesh_.points[tri.v[2]] - a);
@@ -230,7 +223,8 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
         return dg <= dh + 1e-9 * std::abs(dh);
     };
 
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs = pairs_;
+    pairs.clear();
     std::size_t tested = 0;
     // A valid mesh has a few overlapping boundary-face pairs per face; cells that overlap one
     // another (n copies of a cell: n² pairs) would make this quadratic. The sort-pairs budget
@@ -260,8 +254,12 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
         return std::max(a.lo_x, b.lo_x) < std::min(a.hi_x, b.hi_x) && std::max(a.lo_y, b.lo_y) < std::min(a.hi_y, b.hi_y);
     };
 
-    std::vector<std::uint32_t> tile_first[2], tile_items[2];
-    std::vector<std::uint32_t> big_front, big_back;
+    std::vector<std::uint32_t>(&tile_first)[2] = tile_first_;
+    std::vector<std::uint32_t>(&tile_items)[2] = tile_items_;
+    std::vector<std::uint32_t>& big_front = big_front_;
+    std::vector<std::uint32_t>& big_back = big_back_;
+    big_front.clear(), big_back.clear();
+    for (int l = 0; l < 2; ++l) tile_first[l].clear(), tile_items[l].clear();
     if (!front.empty() && !back.empty()) {
         // Tiles: about twice the median projection, at most ~2 tiles per projection. A
         // projection over more than kBigTiles tiles (near the eye) is kept out of the tiles
@@ -269,8 +267,8 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
         constexpr int kBigTiles = 16;
         const std::size_t m = front.size() + back.size();
         double lo_x = front[0].lo_x, lo_y = front[0].lo_y, hi_x = front[0].hi_x, hi_y = front[0].hi_y;
-        std::vector<double> extent;
-        extent.reserve(m);
+        std::vector<double>& extent = extent_;
+        extent.clear();
         for (const auto* list : {&front, &back}) {
             for (const Projection& p : *list) {
                 lo_x = std::min(lo_x, p.lo_x), lo_y = std::min(lo_y, p.lo_y);
@@ -281,7 +279,6 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
         std::nth_element(extent.begin(), extent.begin() + m / 2, extent.end());
         const double width = std::max(hi_x - lo_x, hi_y - lo_y);
         double tile = std::max(2.0 * extent[m / 2], width * 1e-6);
-        std::vector<double>().swap(extent);
         const double max_tiles = 2.0 * double(m) + 64.0;
         const double tiles = std::ceil((hi_x - lo_x) / tile + 1.0) * std::ceil((hi_y - lo_y) / tile + 1.0);
         if (tiles > max_tiles) tile *= std::sqrt(tiles / max_tiles);
@@ -309,7 +306,8 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
             }
             for (std::size_t t = 1; t < first.size(); ++t) first[t] += first[t - 1];
             items.resize(first.back());
-            std::vector<std::uint32_t> cursor(first.begin(), first.end() - 1);
+            std::vector<std::uint32_t>& cursor = cursor_;
+            cursor.assign(first.begin(), first.end() - 1);
             for (std::uint32_t i = 0; i < lists[l]->size(); ++i) {
                 const Projection& p = (*lists[l])[i];
                 if (p.big) continue;
@@ -353,7 +351,7 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
     }
     stats.exterior_pairs = tested;
     const std::size_t pair_bytes = pairs.capacity() * sizeof(pairs[0]);
-    out.build(std::move(pairs));
+    out.build(pairs);
     stats.exterior_edges = out.by_source.size();
     stats.seconds_keys += seconds_since(t0);
     stats.working_bytes += (front.capacity() + back.capacity()) * sizeof(Projection) + pair_bytes +

@@ -18,13 +18,26 @@
 
 namespace fx::sort_detail {
 
+// A boundary triangle projected for one view, clipped to the near plane.
+struct ExteriorProjection {
+    double x[4], y[4];
+    int count;
+    double lo_x, lo_y, hi_x, hi_y;
+    double depth_lo, depth_hi; // view depth range of the clipped triangle
+    double area;
+    std::uint32_t triangle; // index into ExteriorFaces' triangles
+    std::uint32_t cell;
+    bool big; // covers too many tiles: tested outside the tiles
+};
+
 class ExteriorFaces {
 public:
     // Keeps a reference to the mesh (its points are read per view).
     ExteriorFaces(const CellMesh& mesh, const FaceTopology& topology);
 
     // The exterior edges for this view. Fills stats' exterior_* counters and adds to
-    // seconds_keys and working_bytes.
+    // seconds_keys and working_bytes. Not to be called from two threads at once (it reuses
+    // scratch, so that a steady sort allocates nothing).
     void edges(const Camera& camera, ExteriorEdges& out, SortStats& stats) const;
 
     std::size_t triangle_count() const { return triangles_.size(); }
@@ -37,6 +50,11 @@ private:
     };
     const CellMesh& mesh_;
     std::vector<Triangle> triangles_;
+    // Per-view scratch.
+    mutable std::vector<ExteriorProjection> front_, back_;
+    mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs_;
+    mutable std::vector<double> extent_;
+    mutable std::vector<std::uint32_t> tile_first_[2], tile_items_[2], big_front_, big_back_, cursor_;
 };
 
 } // namespace fx::sort_detail

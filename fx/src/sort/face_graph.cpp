@@ -72,10 +72,10 @@ glm::vec4 face_plane(const CellMesh& mesh, std::uint32_t c, const CellFace& face
 
 } // namespace
 
-void ExteriorEdges::build(std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs) {
+void ExteriorEdges::build(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    by_source = std::move(pairs);
+    by_source.assign(pairs.begin(), pairs.end());
     by_target.resize(by_source.size());
     for (std::size_t i = 0; i < by_source.size(); ++i) by_target[i] = {by_source[i].second, by_source[i].first};
     std::sort(by_target.begin(), by_target.end());
@@ -150,7 +150,8 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
                      SortStats& stats) const {
     auto t0 = clock_type::now();
     const std::uint32_t n = cells_;
-    std::vector<std::uint16_t> state(n, 0);
+    std::vector<std::uint16_t>& state = state_;
+    state.assign(n, 0);
 
     // Directions of the face edges.
     const bool ortho = camera.orthographic();
@@ -179,7 +180,7 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
         }
     }
     // Exterior edges: each target waits for one token, released when its last source is out.
-    std::vector<std::uint32_t> remaining;
+    std::vector<std::uint32_t>& remaining = remaining_;
     if (exterior) {
         remaining.resize(exterior->targets.size());
         for (std::size_t t = 0; t < exterior->targets.size(); ++t) {

@@ -32,8 +32,9 @@ struct ExteriorEdges {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> by_target; // (target, source), sorted
     std::vector<std::uint32_t> targets;      // distinct targets, ascending
     std::vector<std::uint32_t> target_first; // targets.size() + 1: ranges of by_target
-    // Takes (source, target) pairs (duplicates allowed, no self pairs) and builds the indices.
-    void build(std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs);
+    // Takes (source, target) pairs (duplicates allowed, no self pairs; sorted in place) and
+    // builds the indices, reusing their storage.
+    void build(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
     std::size_t memory_bytes() const;
 };
 
@@ -45,7 +46,8 @@ public:
     // Throws fx::Error for more than kMaxCells cells. Vertex indices must be in range.
     FaceGraph(const CellMesh& mesh, const FaceTopology& topology);
 
-    // The topological sort for this view; `exterior` may be null. Fills stats' seconds_keys,
+    // The topological sort for this view; `exterior` may be null. Not to be called from two
+    // threads at once (it reuses scratch). Fills stats' seconds_keys,
     // seconds_order, face_edges, cycles and working_bytes (adding to what is there).
     void sort(const Camera& camera, const ExteriorEdges* exterior, std::vector<std::uint32_t>& back_to_front,
               SortStats& stats) const;
@@ -63,6 +65,9 @@ private:
     // that cell: (n, d) with n·(x − origin_) + d > 0 outside.
     std::vector<glm::vec4> planes_;
     glm::dvec3 origin_{0.0};
+    // Per-view scratch, kept so that a steady sort allocates nothing (one sort at a time).
+    mutable std::vector<std::uint16_t> state_;
+    mutable std::vector<std::uint32_t> remaining_;
 };
 
 } // namespace fx::sort_detail

@@ -76,7 +76,8 @@ void KeySort::sort(const Camera& camera, std::vector<std::uint32_t>& back_to_fro
     auto t0 = clock_type::now();
     const std::size_t n = kind_ == Kind::Centroid ? centroids_.size() : spheres_.size();
     // Larger keys are farther and come first.
-    std::vector<std::pair<double, std::uint32_t>> keyed(n);
+    std::vector<std::pair<double, std::uint32_t>>& keyed = keyed_;
+    keyed.resize(n);
     const glm::dvec3 forward = camera.forward();
     const bool ortho = camera.orthographic();
     if (kind_ == Kind::Centroid) {

@@ -35,6 +35,8 @@ private:
     // power: per cell (C, w) with C the sphere centre relative to origin_ and w = |C|² − r²,
     // so that the power distance of e (relative to origin_) is |e|² − 2 C·e + w.
     std::vector<glm::dvec4> spheres_;
+    // Per-view scratch, kept so that a steady sort allocates nothing (one sort at a time).
+    mutable std::vector<std::pair<double, std::uint32_t>> keyed_;
 };
 
 } // namespace fx::sort_detail

@@ -5,6 +5,7 @@
 #include "fx/visibility_sort.hpp"
 
 #include <chrono>
+#include <mutex>
 #include <string>
 
 #include "exterior_faces.hpp"
@@ -61,7 +62,15 @@ const std::vector<SortMethod>& all_sort_methods() {
     return methods;
 }
 
-VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method) : method_(method) {
+// The per-view state the sorts reuse (theirs is in KeySort, FaceGraph and ExteriorFaces), and
+// the lock that gives one sort at a time its use.
+struct sort_detail::Scratch {
+    std::mutex turn;
+    ExteriorEdges exterior_edges; // xmpvo: this view's edges
+};
+
+VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method)
+    : method_(method), scratch_(std::make_shared<sort_detail::Scratch>()) {
     const auto t0 = std::chrono::steady_clock::now();
     check_vertex_indices(mesh);
     switch (method) {
@@ -83,14 +92,14 @@ VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method) : method
 }
 
 void VisibilitySort::sort(const Camera& camera, std::vector<std::uint32_t>& back_to_front, SortStats* stats) const {
+    const std::lock_guard<std::mutex> turn(scratch_->turn);
     const auto t0 = std::chrono::steady_clock::now();
     SortStats s;
     if (keys_) {
         keys_->sort(camera, back_to_front, s);
     } else {
-        sort_detail::ExteriorEdges exterior;
-        if (exterior_) exterior_->edges(camera, exterior, s);
-        graph_->sort(camera, exterior_ ? &exterior : nullptr, back_to_front, s);
+        if (exterior_) exterior_->edges(camera, scratch_->exterior_edges, s);
+        graph_->sort(camera, exterior_ ? &scratch_->exterior_edges : nullptr, back_to_front, s);
     }
     s.cells = back_to_front.size();
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -126,7 +126,8 @@ struct Config {
     int width = 0, height = 0;         // the first frames' viewport size (0: the scene's render size)
     std::optional<bool> draw_terrain;  // override the scene's "terrain.draw"
     WorldUp world_up = WorldUp::Z;
-    fx::ParallelFor parallel_for;      // the host's job system (none: cellfx's CPU work on the calling thread)
+    fx::ParallelFor parallel_for;      // the host's job system (none: update() on the calling thread, the
+                                       // render paths' CPU work on cellfx's own pool, started once)
 
     Config() = default;
     Config(std::string file, int w = 0, int h = 0) : scene_file(std::move(file)), width(w), height(h) {}

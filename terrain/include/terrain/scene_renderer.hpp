@@ -214,8 +214,10 @@ public:
     // benchmarks, not games; none of the host's timer queries may be active then).
     void set_timing(bool timing);
     bool timing() const;
-    // The host's job system for the CPU work of update() (effects simulated side by side);
-    // none (the default): on the calling thread.
+    // The host's job system for the CPU work of update() (effects simulated side by side) and
+    // of render() (the classic absorption path's projection, the exact one's per-frame lists).
+    // None (the default): update() on the calling thread, render()'s work on cellfx's own
+    // persistent pool (fx::default_parallel_for()).
     void set_parallel_for(const fx::ParallelFor& parallel_for);
     double time() const;
     void set_time(double seconds); // the clock, e.g. for a camera path; throws for non-finite

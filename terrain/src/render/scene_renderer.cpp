@@ -439,6 +439,7 @@ struct SceneRenderer::Impl {
         const auto t = Clock::now();
         if (!s.renderer) {
             s.renderer.emplace(mesh, s.effect->scalar_name(), s.tf);
+            if (parallel_for) s.renderer->set_parallel_for(parallel_for); // else cellfx's own pool (the default)
         } else if (s.pending.mesh) {
             s.renderer->set_mesh(mesh, s.effect->scalar_name());
         } else if (s.pending.scalars) {
@@ -811,7 +812,11 @@ void SceneRenderer::set_background(const glm::dvec3& rgb) {
 }
 void SceneRenderer::set_timing(bool timing) { impl_->timing = timing; }
 bool SceneRenderer::timing() const { return impl_->timing; }
-void SceneRenderer::set_parallel_for(const fx::ParallelFor& parallel_for) { impl_->parallel_for = parallel_for; }
+void SceneRenderer::set_parallel_for(const fx::ParallelFor& parallel_for) {
+    impl_->parallel_for = parallel_for;
+    for (Slot& s : impl_->slots)
+        if (s.renderer) s.renderer->set_parallel_for(parallel_for ? parallel_for : fx::default_parallel_for());
+}
 double SceneRenderer::time() const { return impl_->time; }
 void SceneRenderer::set_time(double seconds) {
     if (!std::isfinite(seconds)) throw fx::Error("scene: the time is not finite");

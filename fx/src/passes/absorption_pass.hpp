@@ -1,5 +1,5 @@
-// cellfx — the GL half of the Absorption paths (`absorption`, `absorption-exact`), used by
-// fx::CellRenderer (fx/include/fx/cell_renderer.hpp).
+// cellfx — the Absorption paths' pass (`absorption`, `absorption-exact`) over the GL projector,
+// used by fx::CellRenderer (fx/include/fx/cell_renderer.hpp).
 //
 // Based on: Max, Williams & Silva 2000, §II (polyhedron projection, "over" back to front),
 // §III (visibility sort: fx::VisibilitySort), §V (view-dependent subdivision).
@@ -8,26 +8,28 @@
 // for this view and updates the working mesh (ViewDependentSubdivision), sorts it back to
 // front (the sort's per-mesh state is built on first use per method, and again when the
 // working mesh changes), and for the classic flavour builds every cell's polygons
-// (ClassicAbsorptionBuilder, on several threads, in order). draw() then uploads and draws:
+// (ClassicAbsorptionBuilder, in runs of the order through a fx::ParallelFor, kept in order). draw() then uploads and draws:
 //   classic  the polygons with u, v and C/α per vertex; α from the 2-D opacity table;
-//   exact    one item per cell (or tetrahedron of a subdivided cell) in order, back faces
-//            only, per-fragment entry/exit and the pre-integration table;
+//   exact    the cells' triangles in order (a subdivided cell's tetrahedra in its place),
+//            one indexed draw, back faces only, per-fragment entry/exit through the cell's
+//            planes and the pre-integration table;
 // both into the caller's float target with premultiplied "over" (ONE, ONE_MINUS_SRC_ALPHA).
 //
-// Ownership: keeps references to the renderer's mesh (topology, world points) and projector
-// geometry (positions relative to its origin, scalars, triangles), which must outlive it;
-// owns its programs, tables, buffers and per-frame scratch. Preconditions: the renderer's
-// GL context current; the mesh buffers bound at storage bindings 0–2 (project.glsl) for draw().
+// Ownership: keeps a reference to the projector (mesh topology, geometry, programs), which must
+// outlive it; owns its tables, buffers and per-frame scratch. Preconditions: the renderer's GL
+// context current; the projector's mesh bound (GlProjector::bind_mesh) for draw().
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <map>
 #include <memory>
 #include <vector>
 
 #include "fx/absorption_classic.hpp"
 #include "fx/camera.hpp"
+#include "fx/parallel_for.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/polyhedron_projector.hpp"
@@ -35,29 +37,29 @@
 #include "fx/view_dependent_subdivision.hpp"
 #include "fx/visibility_sort.hpp"
 #include "gl/gl_object.hpp"
+#include "projector/gl_projector.hpp"
 
 namespace fx {
 
 class AbsorptionPass {
 public:
-    AbsorptionPass(const CellMesh& mesh, const ProjectorGeometry& geometry);
+    explicit AbsorptionPass(GlProjector& projector);
     ~AbsorptionPass();
     AbsorptionPass(const AbsorptionPass&) = delete;
     AbsorptionPass& operator=(const AbsorptionPass&) = delete;
 
-    // In the field's units (a normalized function already rescaled). Tables are rebuilt lazily.
-    void set_transfer_function(const TransferFunction& tf);
+    // The projector's transfer function changed: tables are rebuilt lazily.
+    void transfer_function_changed();
 
     // CPU work of the frame; fills the sort/subdivision/projection fields of `stats`.
+    // The classic flavour's projection runs through `parallel_for`.
     void prepare(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
-                 CellRenderStats& stats);
+                 const ParallelFor& parallel_for, CellRenderStats& stats);
     // GL work of the frame prepared last, into the bound target (cleared to 0). With
     // options.scene_depth the renderer has bound the scene's depth texture to unit 3.
     void draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
               CellRenderStats& stats);
 
-    // Pass-through resolve (premultiplied colour and alpha), same uniforms as pcp_resolve.frag.
-    const gl::Program& resolve() const { return resolve_; }
     std::size_t gpu_bytes() const;
 
 private:
@@ -66,9 +68,9 @@ private:
     void ensure_preintegration_table();
     void upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
 
-    const CellMesh& mesh_;
-    const ProjectorGeometry& geometry_;
-    TransferFunction tf_;
+    GlProjector& projector_;
+    const ProgramVariants classic_programs_;
+    const ProgramVariants exact_programs_;
     double max_length_ = 1.0; // longest chord of any cell (the pre-integration table's length range)
     ViewDependentSubdivision subdivision_;
     std::map<SortMethod, std::unique_ptr<VisibilitySort>> sorts_;
@@ -78,15 +80,19 @@ private:
     ClassicSettings classic_settings_;
     std::vector<std::unique_ptr<ClassicAbsorptionBuilder>> builders_;
     std::vector<ClassicGeometry> parts_;
-    // Exact: the frame's items.
-    std::vector<glm::uvec4> items_;
-    int slot_vertices_ = 36;
+    std::size_t chunks_ = 0; // parts_ in use this frame
+    std::vector<std::exception_ptr> errors_;
+    // Exact: the frame's cells in visibility order and the tetrahedra made for this view (4
+    // point ids each).
+    void build_exact_frame();
+    std::vector<std::uint32_t> list_cells_, pieces_;
+    GlCellList exact_list_;
 
-    gl::Program classic_, exact_, resolve_;
-    gl::VertexArray vao_; // its element buffer is index_
+    gl::VertexArray vao_; // classic: its element buffer is index_
     gl::Buffer frame_, index_;
     std::size_t frame_capacity_ = 0, index_capacity_ = 0;
     gl::Texture opacity_, preintegration_;
+    gl::Buffer preintegration_buffer_, opacity_buffer_;
     bool opacity_ready_ = false, preintegration_ready_ = false;
     double s_lo_ = 0.0, s_per_unit_ = 0.0, l_per_unit_ = 0.0;
     std::size_t table_bytes_ = 0;

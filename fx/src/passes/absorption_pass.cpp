@@ -1,0 +1,261 @@
+// Based on: Max, Williams & Silva 2000, §II (polyhedron projection and "over" back to front),
+// §III (visibility sorting), §V (view-dependent subdivision) — the GL half of the two
+// Absorption flavours; shaders absorption.{vert,frag}, cells.vert with absorption_exact.frag,
+// absorption_resolve.frag.
+#include "passes/absorption_pass.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <exception>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "fx/error.hpp"
+#include "fx/segment_integral.hpp"
+#include "parallel_tasks.hpp"
+#include "gl/gl_check.hpp"
+#include "projector/gl_interface.hpp"
+
+namespace fx {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// The 2-D table of §II: 1024² keeps its bilinear error below 4e-5 in α with K = 12 (see
+// build_opacity_table); K = 12 leaves e^(−12) = 6e-6 of the light behind a polygon whose
+// optical depth reaches or exceeds it.
+constexpr int kOpacitySizeTexels = 1024;
+// Pre-integration table: 128 scalar samples per end and 64 lengths (16 MiB of RGBA32F).
+constexpr std::size_t kPreScalars = 128, kPreLengths = 64;
+// Classic: cells per run of the order projected as one task (fewer: one task), and at most this
+// many runs.
+constexpr std::size_t kCellsPerChunk = 4096, kMaxChunks = 64;
+
+} // namespace
+
+AbsorptionPass::AbsorptionPass(GlProjector& projector)
+    : projector_(projector), classic_programs_(projector.programs({"absorption.vert", "absorption.frag"})),
+      exact_programs_(projector.programs({"cells.vert", "absorption_exact.frag"}, projector.mesh_defines().set("CELL_LIST"))),
+      subdivision_(projector.mesh()), exact_list_(projector) {
+    const CellMesh& mesh = projector.mesh();
+    const ProjectorGeometry& geometry = projector.geometry();
+    // The longest chord of a convex cell is at most its bounding-box diagonal. (The projector
+    // has oriented every cell: faces wind outward.)
+    double longest = 0.0;
+    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+        const std::uint32_t* cv = mesh.cell_vertices(c);
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int i = 0; i < cell_vertex_count(mesh.cell_types[c]); ++i) {
+            const glm::dvec3 p(geometry.positions[cv[i]]);
+            lo = glm::min(lo, p), hi = glm::max(hi, p);
+        }
+        longest = std::max(longest, glm::length(hi - lo));
+    }
+    max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
+
+    // Classic: the frame's ClassicVertex array as attributes 0–2 (absorption.vert).
+    vao_ = gl::VertexArray::create();
+    glVertexArrayAttribFormat(vao_.id(), 0, 4, GL_FLOAT, GL_FALSE, GLuint(offsetof(ClassicVertex, position_uv)));
+    glVertexArrayAttribFormat(vao_.id(), 1, 3, GL_FLOAT, GL_FALSE, GLuint(offsetof(ClassicVertex, color)));
+    glVertexArrayAttribFormat(vao_.id(), 2, 2, GL_FLOAT, GL_FALSE, GLuint(offsetof(ClassicVertex, depth)));
+    for (GLuint a = 0; a < 3; ++a) {
+        glVertexArrayAttribBinding(vao_.id(), a, 0);
+        glEnableVertexArrayAttrib(vao_.id(), a);
+    }
+}
+
+AbsorptionPass::~AbsorptionPass() = default;
+
+void AbsorptionPass::transfer_function_changed() {
+    builders_.clear(); // they evaluate the old function
+    preintegration_ready_ = false;
+}
+
+std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_capacity_ + index_capacity_ + exact_list_.gpu_bytes(); }
+
+const VisibilitySort& AbsorptionPass::sort_for(SortMethod method, CellRenderStats& stats) {
+    auto it = sorts_.find(method);
+    if (it == sorts_.end()) {
+        const auto t0 = Clock::now();
+        it = sorts_.emplace(method, std::make_unique<VisibilitySort>(subdivision_.cells(), method)).first;
+        stats.setup_ms += ms_since(t0);
+    }
+    return *it->second;
+}
+
+void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, bool exact,
+                             const CellRenderOptions& options, const ParallelFor& parallel_for,
+                             CellRenderStats& stats) {
+    auto t0 = Clock::now();
+    // §V: problem cells for this view; the sorts are built on the working mesh, so a new one
+    // invalidates them.
+    if (subdivision_.update(camera)) sorts_.clear();
+    const CellMesh& cells = subdivision_.cells();
+    stats.subdivision_ms = ms_since(t0);
+    stats.problem_cells = subdivision_.subdivided_cells();
+
+    const VisibilitySort& sort = sort_for(options.sort, stats);
+    t0 = Clock::now();
+    SortStats sort_stats;
+    sort.sort(camera, order_, &sort_stats);
+    stats.sort_ms = ms_since(t0);
+    stats.sort_cycles = sort_stats.cycles;
+
+    t0 = Clock::now();
+    if (exact) {
+        build_exact_frame();
+        stats.cells_drawn = order_.size();
+        stats.projection_ms = ms_since(t0);
+        return;
+    }
+
+    // Classic: the projected subdivisions, in order, split into contiguous runs per thread.
+    if (classic_settings_.slice_breakpoints != options.slice_breakpoints) {
+        classic_settings_.slice_breakpoints = options.slice_breakpoints;
+        builders_.clear();
+    }
+    // Contiguous runs of the order, one builder each, concatenated in order by draw(). More runs
+    // than threads, so that a host's job system can balance them.
+    const std::size_t n = order_.size();
+    const std::size_t chunks = std::clamp<std::size_t>(n / kCellsPerChunk, 1, kMaxChunks);
+    while (builders_.size() < chunks)
+        builders_.push_back(std::make_unique<ClassicAbsorptionBuilder>(projector_.geometry(), projector_.transfer_function(), classic_settings_));
+    if (parts_.size() < chunks) parts_.resize(chunks);
+    chunks_ = chunks;
+    const ProjectorView view = projector_.view(camera);
+    const ProjectionFrame frame = make_projection_frame(view, camera, double(viewport.width) / double(viewport.height));
+    parallel_for_each(
+        parallel_for, chunks,
+        [&](std::size_t t) {
+            const std::size_t b = n * t / chunks, e = n * (t + 1) / chunks;
+            parts_[t].clear();
+            builders_[t]->set_view(view, frame);
+            builders_[t]->append(cells, order_.data() + b, e - b, parts_[t]);
+        },
+        errors_);
+    std::size_t pieces = 0, culled = 0, polygons = 0;
+    for (std::size_t t = 0; t < chunks; ++t) {
+        pieces += parts_[t].pieces, culled += parts_[t].culled_cells, polygons += parts_[t].polygons;
+    }
+    stats.cells_drawn = n - culled;
+    stats.polygons = polygons;
+    stats.pieces = pieces;
+    stats.projection_ms = ms_since(t0);
+}
+
+void AbsorptionPass::build_exact_frame() {
+    // The frame's cells in visibility order: a whole cell of the mesh by its id, a tetrahedron
+    // made for this view (§V) as kPieceBit | its index in pieces_ (GlProjector::upload_pieces).
+    const CellMesh& cells = subdivision_.cells();
+    list_cells_.resize(order_.size());
+    pieces_.clear();
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+        const std::uint32_t w = order_[i];
+        if (subdivision_.is_piece(w)) {
+            const std::uint32_t* tet = cells.cell_vertices(w);
+            list_cells_[i] = kPieceBit | std::uint32_t(pieces_.size() / 4);
+            pieces_.insert(pieces_.end(), tet, tet + 4);
+        } else {
+            list_cells_[i] = subdivision_.parent(w);
+        }
+    }
+}
+
+void AbsorptionPass::upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (bytes > capacity || !buffer) {
+        capacity = std::max(bytes, capacity * 3 / 2);
+        buffer = gl::make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (data) glNamedBufferSubData(buffer.id(), 0, GLsizeiptr(bytes), data);
+    FX_GL_CHECK("absorption: upload");
+}
+
+void AbsorptionPass::ensure_opacity_table() {
+    if (opacity_ready_) return;
+    const OpacityTable table = build_opacity_table(kOpacitySizeTexels, classic_settings_.max_product);
+    opacity_buffer_ = gl::make_buffer(GLsizeiptr(table.values.size() * sizeof(float)), table.values.data());
+    opacity_ = gl::Texture::create(GL_TEXTURE_BUFFER);
+    glTextureBuffer(opacity_.id(), GL_R32F, opacity_buffer_.id());
+    FX_GL_CHECK("absorption: opacity table");
+    table_bytes_ += table.values.size() * sizeof(float);
+    opacity_ready_ = true;
+}
+
+void AbsorptionPass::ensure_preintegration_table() {
+    if (preintegration_ready_) return;
+    const TransferFunction& tf = projector_.transfer_function();
+    if (tf.points().empty()) throw Error("absorption-exact: the transfer function has no points");
+    const PreintegrationTable table = build_preintegration_table(tf, kPreScalars, kPreLengths, max_length_);
+    // A buffer texture (absorption_exact.frag): (il·n_s + ib)·n_s + if.
+    if (!preintegration_buffer_) {
+        preintegration_buffer_ = gl::make_buffer(GLsizeiptr(table.rgba.size() * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        preintegration_ = gl::Texture::create(GL_TEXTURE_BUFFER);
+        glTextureBuffer(preintegration_.id(), GL_RGBA32F, preintegration_buffer_.id());
+        table_bytes_ += table.rgba.size() * sizeof(glm::vec4);
+    }
+    glNamedBufferSubData(preintegration_buffer_.id(), 0, GLsizeiptr(table.rgba.size() * sizeof(glm::vec4)), table.rgba.data());
+    FX_GL_CHECK("absorption: pre-integration table");
+    s_lo_ = table.s_lo;
+    s_per_unit_ = double(table.n_s - 1) / (table.s_hi - table.s_lo);
+    l_per_unit_ = double(table.n_l - 1) / table.max_length;
+    preintegration_ready_ = true;
+}
+
+void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
+                          CellRenderStats& stats) {
+    // Scene depth: the renderer binds the texture; the mode and ranges are per program.
+    const gl::Program& classic = classic_programs_(options.scene_depth != 0);
+    const gl::Program& exact_program = exact_programs_(options.scene_depth != 0);
+    for (const gl::Program* p : {&classic, &exact_program})
+        projector_.set_scene_depth_uniforms(*p, camera, viewport, options.scene_depth);
+    glEnablei(GL_BLEND, 0);
+    glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front
+    if (exact) {
+        ensure_preintegration_table();
+        projector_.upload_pieces(pieces_);
+        exact_list_.upload(list_cells_, {});
+        projector_.set_view_uniforms(exact_program, camera, viewport);
+        const GLuint p = exact_program.id();
+        glProgramUniform3f(p, kUniformPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
+        glProgramUniform3i(p, kUniformPreintegrationSize, GLint(kPreScalars), GLint(kPreScalars), GLint(kPreLengths));
+        glBindTextureUnit(kUnitPreintegration, preintegration_.id());
+        glBindSampler(kUnitPreintegration, 0);
+        glUseProgram(p);
+        exact_list_.bind(exact_program);
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_FRONT); // back faces only: each pixel a cell covers gets one fragment
+        if (exact_list_.size() > 0) {
+            exact_list_.draw(0, exact_list_.size());
+            stats.draw_calls += 1;
+        }
+        FX_GL_CHECK("absorption-exact draw");
+        return;
+    }
+    ensure_opacity_table();
+    glBindTextureUnit(kUnitOpacity, opacity_.id());
+    glBindSampler(kUnitOpacity, 0);
+    glProgramUniform1i(classic.id(), kUniformOpacitySize, kOpacitySizeTexels);
+    glUseProgram(classic.id());
+    glDisable(GL_CULL_FACE);
+    glBindVertexArray(vao_.id());
+    for (std::size_t t = 0; t < chunks_; ++t) {
+        const ClassicGeometry& part = parts_[t];
+        if (part.indices.empty()) continue;
+        upload(frame_, frame_capacity_, part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
+        const GLuint old_index = index_.id();
+        upload(index_, index_capacity_, part.indices.data(), part.indices.size() * sizeof(std::uint32_t));
+        if (index_.id() != old_index) glVertexArrayElementBuffer(vao_.id(), index_.id());
+        glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
+        glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
+        stats.draw_calls += 1;
+    }
+    FX_GL_CHECK("absorption draw");
+}
+
+} // namespace fx

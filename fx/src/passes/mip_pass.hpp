@@ -1,0 +1,35 @@
+// cellfx — the `mip` render path's pass over the GL projector: every face, and the near-plane
+// caps of cells the near plane cuts, with GL_MAX blending (shaders/mip.frag).
+//
+// Based on: Roettger & Ertl 2003, §2 (maximum intensity projection) and §5 (caps).
+//
+// Ownership: keeps a reference to the projector, which must outlive it; owns its per-frame
+// scratch (caps), kept between frames so that a steady frame allocates nothing.
+#pragma once
+
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "fx/cell_renderer.hpp"
+#include "fx/polyhedron_projector.hpp"
+#include "gl/gl_object.hpp"
+#include "projector/gl_projector.hpp"
+
+namespace fx {
+
+class MipPass {
+public:
+    explicit MipPass(GlProjector& projector);
+    void draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options, CellRenderStats& stats);
+
+private:
+    GlProjector& projector_;
+    const ProgramVariants programs_;  // the mesh's faces
+    const gl::Program& caps_program_; // near-plane caps
+    ProjectedCells projected_;
+    NearCaps caps_;
+    std::vector<glm::uvec4> frame_data_;
+};
+
+} // namespace fx

@@ -1,0 +1,44 @@
+// cellfx — the classic `pcp` render path's pass over the GL projector: Roettger & Ertl's three
+// passes per batch of cells with disjoint screen footprints, into an 8-bit target
+// (shaders/pcp.frag; batching: fx/include/fx/footprint_batches.hpp).
+//
+// Based on: Roettger & Ertl 2003, §3 (three passes per cell) and §5 (near-plane caps).
+//
+// Ownership: keeps a reference to the projector, which must outlive it; owns its per-frame
+// scratch (projection, caps, footprints, batches), kept between frames.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "fx/cell_renderer.hpp"
+#include "fx/footprint_batches.hpp"
+#include "fx/polyhedron_projector.hpp"
+#include "gl/gl_object.hpp"
+#include "projector/gl_projector.hpp"
+
+namespace fx {
+
+class PcpPass {
+public:
+    explicit PcpPass(GlProjector& projector);
+    void draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options, CellRenderStats& stats);
+
+private:
+    GlProjector& projector_;
+    const ProgramVariants programs_;      // the cells of a batch (cells.vert, CELL_LIST and CLASSIC)
+    const ProgramVariants caps_programs_; // their near-plane caps
+    GlCellList list_;                 // the frame's cells, batch after batch, with (d_min, Δd)
+    ProjectedCells projected_;
+    NearCaps caps_;
+    CellFootprints footprints_;
+    std::vector<std::uint32_t> batch_of_, cell_start_, cap_start_, fill_, list_cells_;
+    std::vector<glm::vec2> list_ranges_;
+    std::vector<std::uint64_t> masks_;
+    std::vector<std::vector<std::uint32_t>> caps_of_batch_;
+    std::vector<glm::uvec4> cap_data_;
+};
+
+} // namespace fx

@@ -1,0 +1,91 @@
+// cellfx — the one table of binding points, texture units, uniform locations and shared
+// constants between the GL projector's C++ side and its shaders.
+//
+// Every number is written once, in FX_PROJECTOR_INTERFACE below. C++ sees each entry as an
+// enumerator (kBindingPoints, kUniformEye, ...); GLSL sees it as a #define of the same name in
+// upper case (BINDING_POINTS, UNIFORM_EYE, ...) from the generated include
+// "projector_interface.glsl", which also carries the cell tables the shaders need (the faces of
+// a tetrahedron, from cell_faces() in fx/src/cell_mesh.cpp). Shaders write
+//     #include "projector_interface.glsl"
+//     layout(location = UNIFORM_EYE) uniform vec3 u_eye;
+// and never a bare number. projector_shader_library() is the built-in library plus that file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "gl/shader_library.hpp"
+
+namespace fx {
+
+// X(c++ name, GLSL name, value). Uniform locations are unique across all projector programs so
+// that one program may use any set of them.
+#define FX_PROJECTOR_INTERFACE(X)                                                                  \
+    /* shader storage buffers */                                                                   \
+    X(kBindingFrame, BINDING_FRAME, 3)          /* per-frame data: near-plane cap triangles */     \
+    /* texture units (within those gl::StateGuard saves) */                                        \
+    X(kUnitTables, UNIT_TABLES, 0)              /* transfer-function tables */                     \
+    X(kUnitAccumulation, UNIT_ACCUMULATION, 0)  /* resolve: the pass's target */                   \
+    X(kUnitOpacity, UNIT_OPACITY, 1)            /* classic absorption: 1 − exp(−u·v) */            \
+    X(kUnitPreintegration, UNIT_PREINTEGRATION, 2) /* exact absorption: (s_f, s_b, l) table */     \
+    X(kUnitSceneDepth, UNIT_SCENE_DEPTH, 3)     /* CellRenderOptions::scene_depth */               \
+    X(kUnitPoints, UNIT_POINTS, 4)              /* vec4 per point: position, scalar */             \
+    X(kUnitConnectivity, UNIT_CONNECTIVITY, 5)  /* the cells' point ids */                         \
+    X(kUnitCellOffsets, UNIT_CELL_OFFSETS, 6)   /* per cell: its first point id's index */         \
+    X(kUnitCellWords, UNIT_CELL_WORDS, 7)       /* per cell: its word (below) */                   \
+    X(kUnitPlanes, UNIT_PLANES, 8)              /* per face triangle: outward plane */             \
+    X(kUnitScalarFunctions, UNIT_SCALAR_FUNCTIONS, 9) /* per face triangle: s(q) = g·q + s0 */     \
+    X(kUnitBarycentrics, UNIT_BARYCENTRICS, 10) /* per face triangle: 2 rows, q → (b1, b2) */      \
+    X(kUnitCellList, UNIT_CELL_LIST, 11)        /* a frame's list: slot → cell */                  \
+    X(kUnitSlotData, UNIT_SLOT_DATA, 12)        /* a frame's list: per slot (d_min, Δd) */         \
+    X(kUnitPiecePoints, UNIT_PIECE_POINTS, 13)  /* a frame's tetrahedra: 4 point ids each */       \
+    X(kUnitUniqueFaces, UNIT_UNIQUE_FACES, 14)  /* mip: each face once, 3 point ids */             \
+    X(kUnitCount, UNIT_COUNT, 15)               /* (units in use) */                               \
+    /* uniform locations */                                                                        \
+    X(kUniformViewProjection, UNIFORM_VIEW_PROJECTION, 0)                                          \
+    X(kUniformEye, UNIFORM_EYE, 1)                                                                 \
+    X(kUniformForward, UNIFORM_FORWARD, 2)                                                         \
+    X(kUniformNear, UNIFORM_NEAR, 3)                                                               \
+    X(kUniformOrthographic, UNIFORM_ORTHOGRAPHIC, 4)                                               \
+    X(kUniformTable, UNIFORM_TABLE, 5)                                                             \
+    X(kUniformPass, UNIFORM_PASS, 8)                                                               \
+    X(kUniformPreintegration, UNIFORM_PREINTEGRATION, 10)                                          \
+    X(kUniformPreintegrationSize, UNIFORM_PREINTEGRATION_SIZE, 11)                                 \
+    X(kUniformOpacitySize, UNIFORM_OPACITY_SIZE, 12)                                               \
+    X(kUniformPieceBase, UNIFORM_PIECE_BASE, 13) /* first triangle of a frame's tetrahedra */     \
+    X(kUniformSceneDepthMode, UNIFORM_SCENE_DEPTH_MODE, 20)                                        \
+    X(kUniformSceneDepthRange, UNIFORM_SCENE_DEPTH_RANGE, 21)                                      \
+    X(kUniformSceneOrigin, UNIFORM_SCENE_ORIGIN, 22)                                               \
+    X(kUniformResolveOrigin, UNIFORM_RESOLVE_ORIGIN, 30)                                           \
+    X(kUniformRayOrigin, UNIFORM_RAY_ORIGIN, 40)       /* ray of window pixel (x, y): origin = */  \
+    X(kUniformRayOriginDx, UNIFORM_RAY_ORIGIN_DX, 41)  /* o + x·o_dx + y·o_dy, direction = */      \
+    X(kUniformRayOriginDy, UNIFORM_RAY_ORIGIN_DY, 42)  /* normalize(d + x·d_dx + y·d_dy), */       \
+    X(kUniformRayDirection, UNIFORM_RAY_DIRECTION, 43) /* relative frame */                        \
+    X(kUniformRayDirectionDx, UNIFORM_RAY_DIRECTION_DX, 44)                                        \
+    X(kUniformRayDirectionDy, UNIFORM_RAY_DIRECTION_DY, 45)                                        \
+    /* a cell's word: (its first triangle << WORD_COUNT_BITS) | (its triangle count − 1) */        \
+    X(kWordCountBits, WORD_COUNT_BITS, 4)                                                          \
+    /* a cell list entry with this bit set names a tetrahedron of the frame (upload_pieces) */     \
+    X(kPieceBitIndex, PIECE_BIT_INDEX, 31)
+
+#define FX_INTERFACE_ENUMERATOR(name, glsl, value) name = value,
+enum ProjectorInterface : int { FX_PROJECTOR_INTERFACE(FX_INTERFACE_ENUMERATOR) };
+#undef FX_INTERFACE_ENUMERATOR
+
+constexpr std::uint32_t kPieceBit = 1u << kPieceBitIndex;
+
+// A cell's word (see WORD_COUNT_BITS): where its triangles' data start and how many there are.
+constexpr std::uint32_t kMaxWordTriangle = (1u << (32 - kWordCountBits)) - 1;
+inline std::uint32_t cell_word(std::uint32_t first_triangle, std::uint32_t triangles) {
+    return (first_triangle << kWordCountBits) | (triangles - 1);
+}
+
+// The text of "projector_interface.glsl": every entry above as a #define, plus kTetraFaces (the faces of a tetrahedron, outward, from cell_faces(CellType::Tetra)) and
+// quad_half(triangles, k): whether triangle k of a cell with that many triangles is half of a
+// quad face (the halves of a quad are triangles 2j and 2j + 1), from the same tables.
+std::string projector_interface_glsl();
+
+// The built-in shaders plus the generated "projector_interface.glsl" (made once).
+const gl::ShaderLibrary& projector_shader_library();
+
+} // namespace fx

@@ -1,0 +1,212 @@
+// The dispatcher above the GL projector (projector/gl_projector.hpp) and the render paths'
+// passes (passes/): per frame it saves the host's state, picks the path's target and pass,
+// and composites the result over the host's framebuffer (pcp_resolve.frag,
+// absorption_resolve.frag).
+#include "fx/cell_renderer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "fx/error.hpp"
+#include "gl/gl_check.hpp"
+#include "gl/gl_object.hpp"
+#include "gl/render_target.hpp"
+#include "gl/state_guard.hpp"
+#include "passes/absorption_pass.hpp"
+#include "passes/mip_pass.hpp"
+#include "passes/pcp_exact_pass.hpp"
+#include "passes/pcp_pass.hpp"
+#include "projector/gl_interface.hpp"
+#include "projector/gl_projector.hpp"
+#include "render/projector_access.hpp"
+
+namespace fx {
+
+const char* render_path_name(RenderPath path) {
+    switch (path) {
+    case RenderPath::Pcp: return "pcp";
+    case RenderPath::PcpExact: return "pcp-exact";
+    case RenderPath::Mip: return "mip";
+    case RenderPath::Absorption: return "absorption";
+    case RenderPath::AbsorptionExact: return "absorption-exact";
+    }
+    return "unknown";
+}
+
+bool parse_render_path(std::string_view name, RenderPath& path) {
+    if (name == "pcp") path = RenderPath::Pcp;
+    else if (name == "pcp-exact") path = RenderPath::PcpExact;
+    else if (name == "mip") path = RenderPath::Mip;
+    else if (name == "absorption") path = RenderPath::Absorption;
+    else if (name == "absorption-exact") path = RenderPath::AbsorptionExact;
+    else return false;
+    return true;
+}
+
+struct CellRenderer::Impl {
+    std::unique_ptr<GlProjector> projector;
+    // The passes, each made on first use (the absorption pass's sorts and tables are dear).
+    std::unique_ptr<PcpPass> pcp;
+    std::unique_ptr<PcpExactPass> pcp_exact;
+    std::unique_ptr<MipPass> mip;
+    std::unique_ptr<AbsorptionPass> absorption;
+    gl::RenderTarget accumulation_float, accumulation_8bit;
+    gl::VertexArray vao;
+    gl::Query timer;
+    ParallelFor parallel_for = default_parallel_for();
+    // Resolves over the host's framebuffer (the context's shared programs).
+    const gl::Program* resolve_emission = nullptr;
+    const gl::Program* resolve_fog = nullptr;
+    const gl::Program* resolve_premultiplied = nullptr;
+
+    gl::RenderTarget& target_for(RenderPath path, int width, int height);
+    AbsorptionPass& absorption_pass() {
+        if (!absorption) absorption = std::make_unique<AbsorptionPass>(*projector);
+        return *absorption;
+    }
+    // The passes that depend on the mesh are dropped when it changes.
+    void mesh_changed() {
+        pcp.reset(), pcp_exact.reset(), mip.reset(), absorption.reset();
+    }
+};
+
+CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->projector = std::make_unique<GlProjector>(mesh, scalar_name, tf);
+    impl_->vao = gl::VertexArray::create();
+    impl_->timer = gl::Query::create(GL_TIME_ELAPSED);
+    const GlProjector& p = *impl_->projector;
+    impl_->resolve_emission = &p.program({"fullscreen.vert", "pcp_resolve.frag"});
+    impl_->resolve_fog = &p.program({"fullscreen.vert", "pcp_resolve.frag"}, gl::Defines{{"RESOLVE_FOG", "1"}});
+    impl_->resolve_premultiplied = &p.program({"fullscreen.vert", "absorption_resolve.frag"});
+}
+
+void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
+    impl_->mesh_changed(); // the absorption pass's subdivision, sorts and tables belong to the old mesh
+    impl_->projector->set_mesh(mesh, scalar_name);
+}
+
+void CellRenderer::set_scalars(const std::vector<float>& values) {
+    // The absorption paths' state (working mesh, sorts, tables) depends on the geometry and the
+    // transfer function only; their builders read the scalars from the projector's geometry.
+    impl_->projector->set_scalars(values);
+    if (impl_->absorption) impl_->absorption->transfer_function_changed();
+}
+
+void CellRenderer::set_parallel_for(const ParallelFor& parallel_for) { impl_->parallel_for = parallel_for; }
+
+CellRenderer::~CellRenderer() = default;
+CellRenderer::CellRenderer(CellRenderer&&) noexcept = default;
+
+const GlProjector& ProjectorAccess::projector(const CellRenderer& renderer) { return *renderer.impl_->projector; }
+CellRenderer& CellRenderer::operator=(CellRenderer&&) noexcept = default;
+
+std::size_t CellRenderer::cell_count() const { return impl_->projector->mesh().cell_count(); }
+std::size_t CellRenderer::gpu_bytes() const {
+    return impl_->projector->gpu_bytes() + (impl_->absorption ? impl_->absorption->gpu_bytes() : 0);
+}
+
+void CellRenderer::set_transfer_function(const TransferFunction& tf) {
+    impl_->projector->set_transfer_function(tf);
+    if (impl_->absorption) impl_->absorption->transfer_function_changed();
+}
+
+gl::RenderTarget& CellRenderer::Impl::target_for(RenderPath path, int width, int height) {
+    gl::RenderTarget& t = path == RenderPath::Pcp ? accumulation_8bit : accumulation_float;
+    const gl::ColorFormat format = path == RenderPath::Pcp ? gl::ColorFormat::RGBA8 : gl::ColorFormat::RGBA32F;
+    if (t.width() != width || t.height() != height) t = gl::RenderTarget::create(width, height, format, false);
+    return t;
+}
+
+CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewport, RenderPath path,
+                                     const CellRenderOptions& options) {
+    if (viewport.width <= 0 || viewport.height <= 0) throw Error("cell renderer: empty viewport");
+    Impl& m = *impl_;
+    GlProjector& projector = *m.projector;
+    const auto cpu_start = std::chrono::steady_clock::now();
+    CellRenderStats stats;
+    stats.cells = projector.mesh().cell_count();
+    gl::StateGuard guard;
+    GLint host_framebuffer = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host_framebuffer);
+    const bool absorption = path == RenderPath::Absorption || path == RenderPath::AbsorptionExact;
+    // The absorption paths' CPU work (sort, subdivision, projection) comes before the timed GL work.
+    if (absorption) m.absorption_pass().prepare(camera, viewport, path == RenderPath::AbsorptionExact, options, m.parallel_for, stats);
+    if (options.timing) glBeginQuery(GL_TIME_ELAPSED, m.timer.id());
+
+    gl::StateGuard::set_render_defaults();
+    gl::RenderTarget& target = m.target_for(path, viewport.width, viewport.height);
+    target.clear(glm::vec4(0.0f));
+    target.bind_for_drawing();
+    glBindVertexArray(m.vao.id());
+    projector.bind_mesh();
+    GlProjector::bind_scene_depth(options.scene_depth);
+
+    switch (path) {
+    case RenderPath::PcpExact:
+        if (!m.pcp_exact) m.pcp_exact = std::make_unique<PcpExactPass>(projector);
+        m.pcp_exact->draw(camera, viewport, options, stats);
+        break;
+    case RenderPath::Mip:
+        if (!m.mip) m.mip = std::make_unique<MipPass>(projector);
+        m.mip->draw(camera, viewport, options, stats);
+        break;
+    case RenderPath::Pcp:
+        if (!m.pcp) m.pcp = std::make_unique<PcpPass>(projector);
+        m.pcp->draw(camera, viewport, options, stats);
+        break;
+    case RenderPath::Absorption:
+    case RenderPath::AbsorptionExact:
+        m.absorption_pass().draw(camera, viewport, path == RenderPath::AbsorptionExact, options, stats);
+        break;
+    }
+
+    GlProjector::bind_scene_depth(0); // the host's depth may be attached to its framebuffer
+
+    // Resolve over the host's framebuffer: premultiplied "over" (emission adds, alpha 0).
+    const bool fog = options.fog && path == RenderPath::PcpExact;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(host_framebuffer));
+    glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glEnablei(GL_BLEND, 0);
+    glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    const gl::Program& resolve = absorption ? *m.resolve_premultiplied : fog ? *m.resolve_fog : *m.resolve_emission;
+    glUseProgram(resolve.id());
+    glProgramUniform2i(resolve.id(), kUniformResolveOrigin, viewport.x, viewport.y);
+    glBindTextureUnit(kUnitAccumulation, target.color_texture());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    stats.draw_calls += 1;
+    FX_GL_CHECK("resolve");
+
+    if (options.timing) {
+        glEndQuery(GL_TIME_ELAPSED);
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(m.timer.id(), GL_QUERY_RESULT, &ns);
+        stats.gpu_ms = double(ns) * 1e-6;
+    }
+    stats.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpu_start).count();
+    return stats;
+}
+
+Image CellRenderer::render_to_image(const Camera& camera, int width, int height, RenderPath path,
+                                    const CellRenderOptions& options, CellRenderStats* stats) {
+    gl::RenderTarget out = gl::RenderTarget::create(width, height, gl::ColorFormat::RGBA32F, false);
+    {
+        gl::StateGuard guard;
+        gl::StateGuard::set_render_defaults();
+        out.clear(glm::vec4(0.0f));
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, out.framebuffer());
+        const CellRenderStats s = render(camera, Viewport{0, 0, width, height}, path, options);
+        if (stats) *stats = s;
+    }
+    return out.read();
+}
+
+} // namespace fx
