@@ -30,8 +30,9 @@ namespace {
 std::atomic<bool> counting{false};
 std::atomic<std::uint64_t> allocations{0}, threads_started{0};
 
-// CELLFX_BUDGET_TRACE=<scene>: a backtrace on stderr for every allocation counted in that
-// scene's measured frames (addr2line -C -f -e fx_budget_tests ADDRESS names the frames).
+// CELLFX_BUDGET_TRACE=<scene>[:<path>]: runs only that scene (and path) and prints a backtrace on
+// stderr for every allocation counted in its measured frames (addr2line -C -f -e fx_budget_tests
+// ADDRESS names the frames).
 std::atomic<bool> tracing{false};
 
 void trace_allocation() {
@@ -154,11 +155,15 @@ const char* known_reason(const std::string& scene, const std::string& path) {
 TEST_CASE("A steady frame with a moving camera allocates nothing and starts no thread", "[gl][budget]") {
     fx_test::gl_context();
     const char* trace = std::getenv("CELLFX_BUDGET_TRACE");
-    const std::string trace_scene = trace ? trace : "";
+    const std::string trace_row = trace ? trace : "";
+    const std::string trace_scene = trace_row.substr(0, trace_row.find(':'));
+    const std::string trace_path = trace_row.find(':') == std::string::npos ? "" : trace_row.substr(trace_row.find(':') + 1);
     std::string table = "scene        path              update allocs  render allocs  threads  (per frame, after warm-up)\n";
     for (const char* name : {"campfire", "searchlight", "laser", "fog_valley", "aurora"}) {
         const terrain::Scene scene = terrain::load_scene(fx_test::source_path("content/scenes/" + std::string(name) + ".json"));
+        if (!trace_scene.empty() && trace_scene != name) continue;
         for (fx::RenderPath path : fx::kRenderPaths) {
+            if (!trace_path.empty() && trace_path != fx::render_path_name(path)) continue;
             INFO(name << " [" << fx::render_path_name(path) << "]");
             cellfx::Module fx;
             fx.init(cellfx::Config::from_scene(scene, kW, kH));
@@ -176,9 +181,11 @@ TEST_CASE("A steady frame with a moving camera allocates nothing and starts no t
             Count update, render;
             for (int f = 0; f < kWarmup + kMeasured; ++f) {
                 const fx::Camera cam = moving_camera(scene, f);
-                tracing = f >= kWarmup && trace_scene == name;
+                tracing = f >= kWarmup && !trace_scene.empty();
                 const Count u = count([&] { fx.update(1.0 / 30.0, cam); });
                 const Count r = count([&] { fx.render(target); });
+                if (tracing) std::fprintf(stderr, "==== frame %d: update %llu, render %llu allocations\n", f,
+                                          (unsigned long long)u.allocations, (unsigned long long)r.allocations);
                 tracing = false;
                 if (f < kWarmup) continue;
                 update.allocations += u.allocations, update.threads += u.threads;

@@ -11,6 +11,7 @@
 #include "fx/error.hpp"
 #include "fx/segment_integral.hpp"
 #include "fx/tetrahedralize.hpp"
+#include "frame_storage.hpp"
 
 namespace fx {
 
@@ -195,7 +196,7 @@ void ClassicAbsorptionBuilder::append_tetrahedron(const std::array<std::uint32_t
         return;
     }
     poly_.clear();
-    poly_.vertices.assign(v.begin(), v.end());
+    assign_range_kept(poly_.vertices, v.begin(), v.end());
     for (int k = 0; k < cell_face_count(CellType::Tetra); ++k) {
         const CellFace& face = cell_faces(CellType::Tetra)[k];
         poly_.triangles.push_back({face.v[0], face.v[1], face.v[2]});
@@ -214,11 +215,11 @@ void ClassicAbsorptionBuilder::append_tetrahedron(const std::array<std::uint32_t
                                 det;
     // Slabs between consecutive cuts, by successive clipping (each cut vertex carries the
     // breakpoint's value exactly).
-    thread_local std::vector<ConvexPolyhedron> slabs;
-    slabs.resize(std::size_t(m) + 1);
+    thread_local std::vector<ConvexPolyhedron> slabs; // never shrunk: each slab keeps its storage
+    if (slabs.size() < std::size_t(m) + 1) slabs.resize(std::size_t(m) + 1);
     rest_ = poly_;
     for (int k = 0; k < m; ++k) {
-        f_.resize(rest_.vertices.size());
+        resize_kept(f_, rest_.vertices.size());
         for (std::size_t i = 0; i < f_.size(); ++i) f_[i] = cuts[k] - rest_.vertices[i].scalar;
         clip_polyhedron(rest_, f_, -gradient, slabs[k], cuts[k]);
         for (double& x : f_) x = -x;
@@ -240,7 +241,15 @@ void ClassicAbsorptionBuilder::append_tetrahedron(const std::array<std::uint32_t
         auto distance = [&](int k) {
             return lo_of(k) >= s_eye ? lo_of(k) - s_eye : (hi_of(k) <= s_eye ? s_eye - hi_of(k) : 0.0);
         };
-        std::stable_sort(order, order + m + 1, [&](int a, int b) { return distance(a) > distance(b); });
+        // Stable, farthest first; an insertion sort of at most 65 slabs (std::stable_sort takes a
+        // heap buffer per call).
+        for (int i = 1; i <= m; ++i) {
+            const int k = order[i];
+            const double dk = distance(k);
+            int j = i;
+            for (; j > 0 && distance(order[j - 1]) < dk; --j) order[j] = order[j - 1];
+            order[j] = k;
+        }
     }
     for (int i = 0; i <= m; ++i) append_piece(slabs[order[i]], lo_of(order[i]), hi_of(order[i]), dmin < 0.0, out);
 }
@@ -249,7 +258,7 @@ void ClassicAbsorptionBuilder::append_piece(const ConvexPolyhedron& piece, doubl
                                             ClassicGeometry& out) {
     const ConvexPolyhedron* p = &piece;
     if (cut_by_near) {
-        f_.resize(piece.vertices.size());
+        resize_kept(f_, piece.vertices.size());
         for (std::size_t i = 0; i < f_.size(); ++i) f_[i] = view_.depth(piece.vertices[i].position);
         clip_polyhedron(piece, f_, view_.forward, clipped_);
         if (clipped_.triangles.empty()) return;
@@ -267,8 +276,8 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
     if (subdivision_.polygon_count() == 0 || nv == 0) return;
     const std::uint32_t base = static_cast<std::uint32_t>(out.vertices.size());
     double l_max = 0.0, tau_max = 0.0;
-    tau_.resize(nv);
-    color_.resize(nv);
+    resize_kept(tau_, nv);
+    resize_kept(color_, nv);
     for (std::size_t i = 0; i < nv; ++i) {
         // The piece's scalar lies in [lo, hi] by construction; interpolation may round past
         // an end, which at a step would pick the other side's value.

@@ -2,6 +2,7 @@
 // image plane by the projected edges, thickness and front/back values at its vertices) and
 // Shirley & Tuchman 1990 (the four projection classes of a tetrahedron).
 #include "fx/projected_subdivision.hpp"
+#include "frame_storage.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -49,7 +50,7 @@ double ProjectedSubdivision::area() const {
 }
 
 bool SubdivisionBuilder::project(const ProjectionFrame& frame, const PolyVertex* v, std::size_t n) {
-    points_.resize(n);
+    resize_kept(points_, n);
     for (std::size_t i = 0; i < n; ++i) {
         const glm::dvec4 eye = frame.view * glm::dvec4(v[i].position, 1.0);
         const glm::dvec4 clip = frame.projection * eye;
@@ -276,7 +277,7 @@ void clip_polyhedron(const ConvexPolyhedron& in, const std::vector<double>& f, c
     }
     constexpr std::uint32_t kNone = 0xFFFFFFFFu;
     thread_local std::vector<std::uint32_t> kept;
-    kept.assign(n, kNone);
+    assign_kept(kept, n, kNone);
     for (std::size_t i = 0; i < n; ++i)
         if (f[i] >= 0.0) {
             kept[i] = static_cast<std::uint32_t>(out.vertices.size());

@@ -18,6 +18,7 @@
 #include "parallel_tasks.hpp"
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
+#include "frame_storage.hpp"
 
 namespace fx {
 namespace {
@@ -151,7 +152,7 @@ void AbsorptionPass::build_exact_frame() {
     // The frame's cells in visibility order: a whole cell of the mesh by its id, a tetrahedron
     // made for this view (§V) as kPieceBit | its index in pieces_ (GlProjector::upload_pieces).
     const CellMesh& cells = subdivision_.cells();
-    list_cells_.resize(order_.size());
+    resize_kept(list_cells_, order_.size());
     pieces_.clear();
     for (std::size_t i = 0; i < order_.size(); ++i) {
         const std::uint32_t w = order_[i];

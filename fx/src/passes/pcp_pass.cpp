@@ -3,6 +3,7 @@
 
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
+#include "frame_storage.hpp"
 
 namespace fx {
 PcpPass::PcpPass(GlProjector& projector)
@@ -24,15 +25,15 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     const std::uint32_t batches = batch_footprints(footprints_, batch_of_, masks_);
 
     // Counting sort of cells by batch, then the caps (as fan triangles) grouped the same way.
-    cell_start_.assign(batches + 1, 0);
-    cap_start_.assign(batches + 1, 0);
+    assign_kept(cell_start_, batches + 1, 0u);
+    assign_kept(cap_start_, batches + 1, 0u);
     for (std::uint32_t b : batch_of_)
         if (b != kNoBatch) ++cell_start_[b + 1];
     for (std::uint32_t b = 0; b < batches; ++b) cell_start_[b + 1] += cell_start_[b];
     const std::uint32_t drawn = batches ? cell_start_[batches] : 0;
-    list_cells_.resize(drawn);
-    list_ranges_.resize(drawn);
-    fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+    resize_kept(list_cells_, drawn);
+    resize_kept(list_ranges_, drawn);
+    assign_range_kept(fill_, cell_start_.begin(), cell_start_.end() - 1);
     for (std::size_t c = 0; c < batch_of_.size(); ++c) {
         const std::uint32_t b = batch_of_[c];
         if (b == kNoBatch) continue;
@@ -40,7 +41,7 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         list_cells_[fill_[b]++] = std::uint32_t(c);
     }
     list_.upload(list_cells_, list_ranges_);
-    if (caps_of_batch_.size() < batches) caps_of_batch_.resize(batches);
+    if (caps_of_batch_.size() < batches) resize_kept(caps_of_batch_, batches);
     for (std::uint32_t b = 0; b < batches; ++b) caps_of_batch_[b].clear();
     for (std::size_t k = 0; k < caps_.polygon_count(); ++k) {
         const std::uint32_t b = batch_of_[caps_.cell[k]];

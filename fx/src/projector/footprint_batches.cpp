@@ -1,5 +1,6 @@
 // Based on: Roettger & Ertl 2003, §3 (three passes per cell through the alpha channel).
 #include "fx/footprint_batches.hpp"
+#include "frame_storage.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,7 +34,7 @@ void convex_hull(std::vector<glm::dvec2>& points, std::vector<glm::dvec2>& hull)
         hull = points;
         return;
     }
-    hull.resize(2 * points.size());
+    resize_kept(hull, 2 * points.size());
     std::size_t k = 0;
     for (std::size_t i = 0; i < points.size(); ++i) { // lower chain
         while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
@@ -73,13 +74,13 @@ void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, co
     out.tile = std::max(tile, 1);
     out.tiles_x = std::max(0, (width + out.tile - 1) / out.tile);
     out.tiles_y = std::max(0, (height + out.tile - 1) / out.tile);
-    out.first_span.assign(1, 0u);
+    assign_kept(out.first_span, 1, 0u);
     out.first_span.reserve(nc + 1);
     out.spans.clear();
 
     // The cap polygon of each cut cell (at most one per cell).
     std::vector<std::uint32_t>& cap_of = out.cap_of;
-    cap_of.assign(nc, kNoBatch);
+    assign_kept(cap_of, nc, kNoBatch);
     for (std::size_t k = 0; k < caps.polygon_count(); ++k) cap_of[caps.cell[k]] = std::uint32_t(k);
 
     const double far_d = view.far_distance - view.near_distance;
@@ -131,7 +132,7 @@ std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std
     const std::size_t nc = footprints.cell_count();
     const std::size_t tiles_x = std::size_t(footprints.tiles_x);
     const std::size_t tiles = tiles_x * std::size_t(footprints.tiles_y);
-    batch_of.assign(nc, kNoBatch);
+    assign_kept(batch_of, nc, kNoBatch);
     // masks[page·tiles + tile]: bit b set when batch page·64 + b touches the tile.
     std::size_t pages = 0;
     std::uint32_t batches = 0;
@@ -142,7 +143,7 @@ std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std
         for (std::size_t page = 0;; ++page) {
             if (page == pages) {
                 ++pages;
-                if (masks.size() < pages * tiles) masks.resize(pages * tiles);
+                if (masks.size() < pages * tiles) resize_kept(masks, pages * tiles);
                 std::fill(masks.begin() + std::ptrdiff_t(page * tiles), masks.begin() + std::ptrdiff_t(pages * tiles), 0u);
             }
             std::uint64_t* m = masks.data() + page * tiles;

@@ -16,6 +16,7 @@
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
+#include "frame_storage.hpp"
 
 namespace fx {
 namespace {
@@ -130,7 +131,7 @@ void GlProjector::set_mesh(const CellMesh& mesh, const std::string& scalar_name)
     set_transfer_function(source_tf_);
 }
 
-void GlProjector::set_scalars(const std::vector<float>& values) {
+bool GlProjector::set_scalars(const std::vector<float>& values) {
     if (values.size() != geometry_.scalars.size())
         throw Error("cell renderer: set_scalars got " + std::to_string(values.size()) + " values for " +
                     std::to_string(geometry_.scalars.size()) + " points");
@@ -143,7 +144,9 @@ void GlProjector::set_scalars(const std::vector<float>& values) {
     FX_GL_CHECK("set_scalars upload");
     field_range_ = values.empty() ? ScalarRange{0.0f, 0.0f} : ScalarRange{values[0], values[0]};
     for (float v : values) field_range_.lo = std::min(field_range_.lo, v), field_range_.hi = std::max(field_range_.hi, v);
-    if (source_tf_.normalized()) set_transfer_function(source_tf_); // its tables follow the range
+    if (!source_tf_.normalized()) return false;
+    set_transfer_function(source_tf_); // its tables follow the range
+    return true;
 }
 
 void GlProjector::set_transfer_function(const TransferFunction& tf) {
@@ -162,13 +165,13 @@ gl::Texture& GlProjector::attach(gl::Texture& texture, GLenum format, const gl::
 
 void GlProjector::upload_point_data() {
     const std::size_t np = geometry_.positions.size();
-    std::vector<glm::vec4> point_data(std::max<std::size_t>(np, 1));
-    for (std::size_t i = 0; i < np; ++i) point_data[i] = glm::vec4(geometry_.positions[i], geometry_.scalars[i]);
+    point_data_.resize(std::max<std::size_t>(np, 1)); // kept: set_scalars rewrites it every frame
+    for (std::size_t i = 0; i < np; ++i) point_data_[i] = glm::vec4(geometry_.positions[i], geometry_.scalars[i]);
     if (!points_ || points_.id() == 0) {
-        points_ = buffer_of(point_data, GL_DYNAMIC_STORAGE_BIT);
+        points_ = buffer_of(point_data_, GL_DYNAMIC_STORAGE_BIT);
         attach(points_texture_, GL_RGBA32F, points_);
     } else {
-        glNamedBufferSubData(points_.id(), 0, GLsizeiptr(point_data.size() * sizeof(glm::vec4)), point_data.data());
+        glNamedBufferSubData(points_.id(), 0, GLsizeiptr(point_data_.size() * sizeof(glm::vec4)), point_data_.data());
     }
 }
 
@@ -444,7 +447,7 @@ void GlProjector::upload_pieces(const std::vector<std::uint32_t>& tetrahedra) {
         piece_capacity_ = capacity;
         bytes_ = static_bytes_ + capacity * (4 * 16 + 4 * 16 + 16);
     }
-    piece_data_.resize(8 * pieces); // 4 planes, then 4 scalar functions, per tetrahedron
+    resize_kept(piece_data_, 8 * pieces); // 4 planes, then 4 scalar functions, per tetrahedron
     const CellFace* faces = cell_faces(CellType::Tetra);
     for (std::size_t i = 0; i < pieces; ++i) {
         const std::uint32_t* tet = &tetrahedra[4 * i];
@@ -571,7 +574,7 @@ void GlCellList::upload(const std::vector<std::uint32_t>& cells, const std::vect
     const CellFace* tetra_faces = cell_faces(CellType::Tetra);
     const std::uint32_t v = std::uint32_t(projector_.vertices_per_cell());
     elements_data_.clear();
-    first_element_.resize(slots_ + 1);
+    resize_kept(first_element_, slots_ + 1);
     for (std::size_t s = 0; s < slots_; ++s) {
         first_element_[s] = elements_data_.size();
         const std::uint32_t base = std::uint32_t(s) * v;

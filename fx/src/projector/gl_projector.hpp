@@ -79,9 +79,10 @@ public:
     GlProjector(const GlProjector&) = delete;
     GlProjector& operator=(const GlProjector&) = delete;
 
-    // As CellRenderer::set_mesh / set_scalars / set_transfer_function.
+    // As CellRenderer::set_mesh / set_scalars / set_transfer_function. set_scalars returns
+    // whether the transfer function in use changed too (a normalized one follows the range).
     void set_mesh(const CellMesh& mesh, const std::string& scalar_name);
-    void set_scalars(const std::vector<float>& values);
+    bool set_scalars(const std::vector<float>& values);
     void set_transfer_function(const TransferFunction& tf);
 
     // The mesh as drawn: inverted cells oriented (orient_cells), fields cleared (the geometry
@@ -170,6 +171,7 @@ private:
     TransferFunction transfer_;  // as in use
     int vertices_per_cell_ = 8;
     std::vector<std::uint32_t> cell_triangle_vertices_;
+    std::vector<glm::vec4> point_data_; // what points_ holds
 
     gl::Buffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, elements_;
     gl::Texture points_texture_, connectivity_texture_, cell_offsets_texture_, cell_words_texture_, planes_texture_,

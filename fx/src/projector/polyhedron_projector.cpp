@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "fx/error.hpp"
+#include "frame_storage.hpp"
 
 namespace fx {
 
@@ -103,10 +104,10 @@ ProjectorView make_projector_view(const ProjectorGeometry& geometry, const Camer
 void project_cells(const CellMesh& mesh, const ProjectorGeometry& geometry, const ProjectorView& view,
                    ProjectedCells& out) {
     const std::size_t np = geometry.positions.size();
-    out.point_depth.resize(np);
+    resize_kept(out.point_depth, np);
     for (std::size_t i = 0; i < np; ++i) out.point_depth[i] = float(view.depth(glm::dvec3(geometry.positions[i])));
     const std::size_t nc = mesh.cell_count();
-    out.depth_range.resize(nc);
+    resize_kept(out.depth_range, nc);
     out.cut_cells.clear();
     for (std::size_t c = 0; c < nc; ++c) {
         const std::uint32_t* cv = mesh.cell_vertices(c);
@@ -153,7 +154,7 @@ FaceSide classify_triangle(const ProjectorGeometry& geometry, const ProjectorVie
 }
 
 void classify_triangles(const ProjectorGeometry& geometry, const ProjectorView& view, std::vector<FaceSide>& out) {
-    out.resize(geometry.triangles.size());
+    resize_kept(out, geometry.triangles.size());
     for (std::size_t t = 0; t < out.size(); ++t) out[t] = classify_triangle(geometry, view, t);
 }
 
@@ -211,7 +212,7 @@ bool append_near_cap(const ProjectorGeometry& geometry, const ProjectorView& vie
     for (const CapPoint& p : points) extent = std::max({extent, std::abs(p.q.x - points[0].q.x), std::abs(p.q.y - points[0].q.y)});
     const double area_tol = 1e-12 * extent * extent;
     thread_local std::vector<std::size_t> hull;
-    hull.assign(2 * points.size(), 0);
+    assign_kept(hull, 2 * points.size(), 0);
     std::size_t k = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
         while (k >= 2 && cross2(points[hull[k - 2]].q, points[hull[k - 1]].q, points[i].q) <= area_tol) --k;

@@ -94,8 +94,8 @@ void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name
 void CellRenderer::set_scalars(const std::vector<float>& values) {
     // The absorption paths' state (working mesh, sorts, tables) depends on the geometry and the
     // transfer function only; their builders read the scalars from the projector's geometry.
-    impl_->projector->set_scalars(values);
-    if (impl_->absorption) impl_->absorption->transfer_function_changed();
+    const bool function_changed = impl_->projector->set_scalars(values);
+    if (function_changed && impl_->absorption) impl_->absorption->transfer_function_changed();
 }
 
 void CellRenderer::set_parallel_for(const ParallelFor& parallel_for) { impl_->parallel_for = parallel_for; }

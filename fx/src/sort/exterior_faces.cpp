@@ -29,6 +29,7 @@
 
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
+#include "frame_storage.hpp"
 
 namespace fx::sort_detail {
 using Projection = ExteriorProjection;
@@ -292,7 +293,7 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
             // Compressed rows: tile t holds items[first[t] .. first[t + 1]), in depth order.
             std::vector<std::uint32_t>& first = tile_first[l];
             std::vector<std::uint32_t>& items = tile_items[l];
-            first.assign(std::size_t(nx) * ny + 1, 0);
+            assign_kept(first, std::size_t(nx) * ny + 1, 0u);
             for (std::uint32_t i = 0; i < lists[l]->size(); ++i) {
                 Projection& p = (*lists[l])[i];
                 const int tx0 = tile_x(p.lo_x), tx1 = tile_x(p.hi_x), ty0 = tile_y(p.lo_y), ty1 = tile_y(p.hi_y);
@@ -305,9 +306,9 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
                     for (int tx = tx0; tx <= tx1; ++tx) ++first[std::size_t(ty) * nx + tx + 1];
             }
             for (std::size_t t = 1; t < first.size(); ++t) first[t] += first[t - 1];
-            items.resize(first.back());
+            resize_kept(items, first.back());
             std::vector<std::uint32_t>& cursor = cursor_;
-            cursor.assign(first.begin(), first.end() - 1);
+            assign_range_kept(cursor, first.begin(), first.end() - 1);
             for (std::uint32_t i = 0; i < lists[l]->size(); ++i) {
                 const Projection& p = (*lists[l])[i];
                 if (p.big) continue;

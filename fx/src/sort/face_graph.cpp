@@ -23,6 +23,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/error.hpp"
+#include "frame_storage.hpp"
 
 namespace fx::sort_detail {
 namespace {
@@ -75,8 +76,8 @@ glm::vec4 face_plane(const CellMesh& mesh, std::uint32_t c, const CellFace& face
 void ExteriorEdges::build(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    by_source.assign(pairs.begin(), pairs.end());
-    by_target.resize(by_source.size());
+    assign_range_kept(by_source, pairs.begin(), pairs.end());
+    resize_kept(by_target, by_source.size());
     for (std::size_t i = 0; i < by_source.size(); ++i) by_target[i] = {by_source[i].second, by_source[i].first};
     std::sort(by_target.begin(), by_target.end());
     targets.clear();
@@ -151,7 +152,7 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
     auto t0 = clock_type::now();
     const std::uint32_t n = cells_;
     std::vector<std::uint16_t>& state = state_;
-    state.assign(n, 0);
+    assign_kept(state, n, std::uint16_t(0));
 
     // Directions of the face edges.
     const bool ortho = camera.orthographic();
@@ -182,7 +183,7 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
     // Exterior edges: each target waits for one token, released when its last source is out.
     std::vector<std::uint32_t>& remaining = remaining_;
     if (exterior) {
-        remaining.resize(exterior->targets.size());
+        resize_kept(remaining, exterior->targets.size());
         for (std::size_t t = 0; t < exterior->targets.size(); ++t) {
             remaining[t] = exterior->target_first[t + 1] - exterior->target_first[t];
             state[exterior->targets[t]] = std::uint16_t((state[exterior->targets[t]] + 1) | kExteriorIn);
@@ -192,7 +193,7 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
     stats.seconds_keys += seconds_since(t0);
     t0 = clock_type::now();
 
-    back_to_front.resize(n);
+    resize_kept(back_to_front, n);
     std::uint32_t* out = back_to_front.data();
     std::uint32_t head = 0, tail = 0;
     auto release = [&](std::uint32_t c) {
@@ -233,7 +234,7 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
     }
     std::size_t cycles = 0;
     std::uint32_t scan = 0;
-    std::vector<std::uint32_t> path;
+    std::vector<std::uint32_t>& path = path_; // kept: cycles may come back every frame
     for (;;) {
         while (head < tail) {
             const std::uint32_t c = out[head++];

@@ -68,6 +68,7 @@ private:
     // Per-view scratch, kept so that a steady sort allocates nothing (one sort at a time).
     mutable std::vector<std::uint16_t> state_;
     mutable std::vector<std::uint32_t> remaining_;
+    mutable std::vector<std::uint32_t> path_; // a cycle's walk
 };
 
 } // namespace fx::sort_detail

@@ -6,6 +6,7 @@
 // whenever the face is locally Delaunay (neither opposite vertex inside the other sphere).
 // Hence exactness on Delaunay meshes, and a good approximation on others.
 #include "key_sort.hpp"
+#include "frame_storage.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -77,7 +78,7 @@ void KeySort::sort(const Camera& camera, std::vector<std::uint32_t>& back_to_fro
     const std::size_t n = kind_ == Kind::Centroid ? centroids_.size() : spheres_.size();
     // Larger keys are farther and come first.
     std::vector<std::pair<double, std::uint32_t>>& keyed = keyed_;
-    keyed.resize(n);
+    resize_kept(keyed, n);
     const glm::dvec3 forward = camera.forward();
     const bool ortho = camera.orthographic();
     if (kind_ == Kind::Centroid) {
@@ -101,7 +102,7 @@ void KeySort::sort(const Camera& camera, std::vector<std::uint32_t>& back_to_fro
     std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
         return a.first > b.first || (a.first == b.first && a.second < b.second);
     });
-    back_to_front.resize(n);
+    resize_kept(back_to_front, n);
     for (std::size_t i = 0; i < n; ++i) back_to_front[i] = keyed[i].second;
     stats.seconds_order = seconds_since(t0);
     stats.cycles = 0;
