@@ -10,6 +10,7 @@
 // grouped by their smallest vertex, then matched within each group).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -36,5 +37,19 @@ struct FaceTopology {
 };
 
 FaceTopology build_face_topology(const CellMesh& mesh);
+
+// The working storage of a build, kept by callers that rebuild the topology of a mesh replaced
+// every frame (terrain prisms).
+struct FaceTopologyScratch {
+    struct Key {
+        std::array<std::uint32_t, 4> v; // the face's vertices, sorted, 0xFFFFFFFF-padded
+        std::uint32_t slot;
+    };
+    std::vector<Key> keys, grouped;
+    std::vector<std::uint32_t> bucket_start, fill;
+};
+// The same into `out`, reusing its storage and the scratch's: no allocation once sizes have
+// been seen.
+void build_face_topology(const CellMesh& mesh, FaceTopology& out, FaceTopologyScratch& scratch);
 
 } // namespace fx

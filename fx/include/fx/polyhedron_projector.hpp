@@ -59,6 +59,9 @@ struct ProjectorGeometry {
 // must hold one value per mesh point. Throws fx::Error on a size mismatch, an index out of
 // range or a non-finite coordinate/scalar (never drawn).
 ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars);
+// The same into `out`, reusing its storage (a mesh replaced every frame allocates nothing once
+// its sizes have been seen). On a throw `out` is left partly built.
+void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, ProjectorGeometry& out);
 
 // The camera in the geometry's relative frame (doubles; the GPU gets floats of these).
 struct ProjectorView {

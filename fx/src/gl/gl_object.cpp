@@ -1,5 +1,6 @@
 #include "gl/gl_object.hpp"
 
+#include <algorithm>
 #include <string>
 
 namespace fx::gl {
@@ -11,6 +12,25 @@ Buffer make_buffer(GLsizeiptr size, const void* data, GLbitfield flags) {
     glNamedBufferStorage(buffer.id(), size, data, flags);
     FX_GL_CHECK("glNamedBufferStorage");
     return buffer;
+}
+
+bool GrowingBuffer::reserve(std::size_t bytes, std::size_t keep) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (buffer_ && bytes <= capacity_) return false;
+    const std::size_t capacity = std::max(bytes, capacity_ + capacity_ / 2);
+    Buffer grown = make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    keep = std::min(keep, capacity_);
+    if (buffer_ && keep > 0) glCopyNamedBufferSubData(buffer_.id(), grown.id(), 0, 0, GLsizeiptr(keep));
+    buffer_ = std::move(grown);
+    capacity_ = capacity;
+    FX_GL_CHECK("grow buffer");
+    return true;
+}
+
+bool GrowingBuffer::upload(const void* data, std::size_t bytes) {
+    const bool made = reserve(bytes);
+    if (bytes > 0) glNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(bytes), data);
+    return made;
 }
 
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels) {

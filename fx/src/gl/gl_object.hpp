@@ -13,6 +13,7 @@
 // empty and its destructor makes no GL call, so empty wrappers may outlive the context.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <utility>
 
@@ -144,6 +145,25 @@ using Query = Object<traits::Query>;               // Query::create(GL_TIME_ELAP
 // Immutable storage (glNamedBufferStorage) of `size` bytes, filled from `data` if not null.
 // flags: GL_DYNAMIC_STORAGE_BIT to allow glNamedBufferSubData later, map bits, ...
 Buffer make_buffer(GLsizeiptr size, const void* data, GLbitfield flags = 0);
+
+// A buffer for data replaced every frame or with every new mesh: immutable storage with
+// GL_DYNAMIC_STORAGE_BIT that grows by half when a size exceeds its capacity and never shrinks,
+// so that sizes seen before cost no new storage and only the bytes written are uploaded.
+class GrowingBuffer {
+public:
+    // Makes room for `bytes` (at least 16). Returns true when the storage was made anew: its
+    // name changed (attach it again where it is attached), and only its first `keep` bytes
+    // were carried over.
+    bool reserve(std::size_t bytes, std::size_t keep = 0);
+    // reserve(bytes), then writes `bytes` of `data` at offset 0; returns reserve's answer.
+    bool upload(const void* data, std::size_t bytes);
+    GLuint id() const { return buffer_.id(); }
+    std::size_t capacity() const { return capacity_; }
+
+private:
+    Buffer buffer_;
+    std::size_t capacity_ = 0;
+};
 
 // A 2-D texture with immutable storage (glTextureStorage2D), `levels` mip levels, NEAREST
 // filtering and CLAMP_TO_EDGE so that texel values come back exactly unless changed.

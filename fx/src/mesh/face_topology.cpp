@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <array>
 
+#include "frame_storage.hpp"
+
 namespace fx {
 namespace {
 
 // A face's vertex set, sorted, padded with 0xFFFFFFFF for triangles, plus its slot.
-struct FaceKey {
-    std::array<std::uint32_t, 4> v;
-    std::uint32_t slot;
-};
+using FaceKey = FaceTopologyScratch::Key;
 
 bool same_vertices(const FaceKey& a, const FaceKey& b) { return a.v == b.v; }
 
@@ -24,21 +23,33 @@ std::size_t FaceTopology::memory_bytes() const {
 
 FaceTopology build_face_topology(const CellMesh& mesh) {
     FaceTopology topo;
+    FaceTopologyScratch scratch;
+    build_face_topology(mesh, topo, scratch);
+    return topo;
+}
+
+void build_face_topology(const CellMesh& mesh, FaceTopology& topo, FaceTopologyScratch& scratch) {
     const std::size_t cells = mesh.cell_count();
-    topo.first_face.resize(cells + 1);
+    topo.boundary_faces.clear();
+    topo.non_manifold_faces = 0;
+    topo.non_manifold_slots.clear();
+    assign_kept(topo.non_manifold_first, 1, 0u);
+    resize_kept(topo.first_face, cells + 1);
     std::uint32_t slots = 0;
     for (std::size_t c = 0; c < cells; ++c) {
         topo.first_face[c] = slots;
         slots += static_cast<std::uint32_t>(cell_face_count(mesh.cell_types[c]));
     }
     topo.first_face[cells] = slots;
-    topo.neighbour.assign(slots, FaceTopology::kBoundary);
-    topo.slot_cell.resize(slots);
+    assign_kept(topo.neighbour, slots, FaceTopology::kBoundary);
+    resize_kept(topo.slot_cell, slots);
 
     // Every face's sorted vertex set, then the slots grouped by their smallest vertex (a
     // counting sort: O(F)), so that only the few faces around one point are compared.
-    std::vector<FaceKey> keys(slots);
-    std::vector<std::uint32_t> bucket_start(mesh.point_count() + 2, 0);
+    std::vector<FaceKey>& keys = scratch.keys;
+    std::vector<std::uint32_t>& bucket_start = scratch.bucket_start;
+    resize_kept(keys, slots);
+    assign_kept(bucket_start, mesh.point_count() + 2, 0u);
     for (std::size_t c = 0; c < cells; ++c) {
         const CellType type = mesh.cell_types[c];
         const CellFace* faces = cell_faces(type);
@@ -56,12 +67,13 @@ FaceTopology build_face_topology(const CellMesh& mesh) {
         }
     }
     for (std::size_t b = 1; b < bucket_start.size(); ++b) bucket_start[b] += bucket_start[b - 1];
-    std::vector<FaceKey> grouped(slots);
+    std::vector<FaceKey>& grouped = scratch.grouped;
+    resize_kept(grouped, slots);
     {
-        std::vector<std::uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
+        std::vector<std::uint32_t>& fill = scratch.fill;
+        assign_range_kept(fill, bucket_start.begin(), bucket_start.end() - 1);
         for (const FaceKey& key : keys) grouped[fill[std::min<std::size_t>(key.v[0], mesh.point_count())]++] = key;
     }
-    keys = {};
     const auto before = [](const FaceKey& a, const FaceKey& b) { return a.v != b.v ? a.v < b.v : a.slot < b.slot; };
     for (std::size_t b = 0; b + 1 < bucket_start.size(); ++b)
         std::sort(grouped.begin() + bucket_start[b], grouped.begin() + bucket_start[b + 1], before);
@@ -84,7 +96,6 @@ FaceTopology build_face_topology(const CellMesh& mesh) {
     for (std::uint32_t s = 0; s < slots; ++s) {
         if (topo.neighbour[s] == FaceTopology::kBoundary) topo.boundary_faces.push_back(s);
     }
-    return topo;
 }
 
 } // namespace fx

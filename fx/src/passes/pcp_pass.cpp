@@ -25,6 +25,11 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     const std::uint32_t batches = batch_footprints(footprints_, batch_of_, masks_);
 
     // Counting sort of cells by batch, then the caps (as fan triangles) grouped the same way.
+    // There are never more batches or listed cells than cells: room for that many from the
+    // first frame on, so that a view with more batches than any before allocates nothing.
+    const std::size_t nc = mesh.cell_count();
+    for (std::vector<std::uint32_t>* v : {&cell_start_, &cap_start_, &cap_first_, &fill_, &list_cells_}) reserve_kept(*v, nc + 1);
+    reserve_kept(list_ranges_, nc);
     assign_kept(cell_start_, batches + 1, 0u);
     assign_kept(cap_start_, batches + 1, 0u);
     for (std::uint32_t b : batch_of_)
@@ -41,16 +46,24 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         list_cells_[fill_[b]++] = std::uint32_t(c);
     }
     list_.upload(list_cells_, list_ranges_);
-    if (caps_of_batch_.size() < batches) resize_kept(caps_of_batch_, batches);
-    for (std::uint32_t b = 0; b < batches; ++b) caps_of_batch_[b].clear();
+    // The caps of each batch in batch order: a counting sort like the cells'.
+    assign_kept(cap_first_, batches + 1, 0u);
     for (std::size_t k = 0; k < caps_.polygon_count(); ++k) {
         const std::uint32_t b = batch_of_[caps_.cell[k]];
-        if (b != kNoBatch) caps_of_batch_[b].push_back(std::uint32_t(k));
+        if (b != kNoBatch) ++cap_first_[b + 1];
+    }
+    for (std::uint32_t b = 0; b < batches; ++b) cap_first_[b + 1] += cap_first_[b];
+    resize_kept(cap_order_, batches ? cap_first_[batches] : 0);
+    assign_range_kept(fill_, cap_first_.begin(), cap_first_.end() - 1);
+    for (std::size_t k = 0; k < caps_.polygon_count(); ++k) {
+        const std::uint32_t b = batch_of_[caps_.cell[k]];
+        if (b != kNoBatch) cap_order_[fill_[b]++] = std::uint32_t(k);
     }
     cap_data_.clear();
     for (std::uint32_t b = 0; b < batches; ++b) {
         cap_start_[b] = std::uint32_t(cap_data_.size() / 2);
-        for (std::uint32_t k : caps_of_batch_[b]) GlProjector::append_cap_vertices(caps_, projected_, k, cap_data_);
+        for (std::uint32_t i = cap_first_[b]; i < cap_first_[b + 1]; ++i)
+            GlProjector::append_cap_vertices(caps_, projected_, cap_order_[i], cap_data_);
     }
     cap_start_[batches] = std::uint32_t(cap_data_.size() / 2);
     projector_.upload_frame(cap_data_);

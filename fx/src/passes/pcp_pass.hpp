@@ -34,10 +34,11 @@ private:
     ProjectedCells projected_;
     NearCaps caps_;
     CellFootprints footprints_;
-    std::vector<std::uint32_t> batch_of_, cell_start_, cap_start_, fill_, list_cells_;
+    // cell_start_ / cap_first_: per batch, its first listed cell / cap in cap_order_;
+    // cap_start_: its first cap vertex.
+    std::vector<std::uint32_t> batch_of_, cell_start_, cap_start_, cap_first_, cap_order_, fill_, list_cells_;
     std::vector<glm::vec2> list_ranges_;
     std::vector<std::uint64_t> masks_;
-    std::vector<std::vector<std::uint32_t>> caps_of_batch_;
     std::vector<glm::uvec4> cap_data_;
 };
 

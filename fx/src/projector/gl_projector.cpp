@@ -29,12 +29,6 @@ std::uint32_t bits(float f) {
     return u;
 }
 
-template <class T>
-gl::Buffer buffer_of(const std::vector<T>& data, GLbitfield flags = 0) {
-    return gl::make_buffer(GLsizeiptr(std::max<std::size_t>(data.size(), 1) * sizeof(T)), data.empty() ? nullptr : data.data(),
-                           flags);
-}
-
 struct ScalarPoint {
     glm::dvec3 p;
     double s;
@@ -107,7 +101,7 @@ void check_texture_buffer_size(std::size_t texels, const char* what) {
 GlProjector::GlProjector(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf)
     : programs_(gl::ProgramCache::for_current_context()) {
     tables_buffer_ = gl::make_buffer(GLsizeiptr(3 * (kTableSize + 1) * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    attach(tables_, GL_RGBA32F, tables_buffer_);
+    attach(tables_, GL_RGBA32F, tables_buffer_.id());
     upload_mesh(mesh, scalar_name);
     set_transfer_function(tf);
 }
@@ -128,7 +122,7 @@ gl::Defines GlProjector::mesh_defines() const { return gl::Defines{{"VERTICES_PE
 
 void GlProjector::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
     upload_mesh(mesh, scalar_name);
-    set_transfer_function(source_tf_);
+    if (source_tf_.normalized()) set_transfer_function(source_tf_); // else the tables stay as they are
 }
 
 bool GlProjector::set_scalars(const std::vector<float>& values) {
@@ -140,7 +134,7 @@ bool GlProjector::set_scalars(const std::vector<float>& values) {
     geometry_.scalars = values;
     upload_point_data();
     scalar_functions(function_scratch_); // they follow the values; nothing else changes
-    glNamedBufferSubData(scalar_fns_.id(), 0, GLsizeiptr(function_scratch_.size() * 16), function_scratch_.data());
+    glNamedBufferSubData(scalar_fns_.id(), 0, GLsizeiptr(geometry_.triangles.size() * 16), function_scratch_.data());
     FX_GL_CHECK("set_scalars upload");
     field_range_ = values.empty() ? ScalarRange{0.0f, 0.0f} : ScalarRange{values[0], values[0]};
     for (float v : values) field_range_.lo = std::min(field_range_.lo, v), field_range_.hi = std::max(field_range_.hi, v);
@@ -155,24 +149,24 @@ void GlProjector::set_transfer_function(const TransferFunction& tf) {
     upload_tables(transfer_);
 }
 
-gl::Texture& GlProjector::attach(gl::Texture& texture, GLenum format, const gl::Buffer& buffer) {
+gl::Texture& GlProjector::attach(gl::Texture& texture, GLenum format, GLuint buffer) {
     // Made once; a new or grown buffer is attached to the same texture, so bound units stay valid.
     if (!texture) texture = gl::Texture::create(GL_TEXTURE_BUFFER);
-    glTextureBuffer(texture.id(), format, buffer.id());
+    glTextureBuffer(texture.id(), format, buffer);
     FX_GL_CHECK("buffer texture");
     return texture;
 }
 
+void GlProjector::upload(gl::GrowingBuffer& buffer, gl::Texture& texture, GLenum format, const void* data,
+                         std::size_t bytes) {
+    if (buffer.upload(data, bytes)) attach(texture, format, buffer.id());
+}
+
 void GlProjector::upload_point_data() {
     const std::size_t np = geometry_.positions.size();
-    point_data_.resize(std::max<std::size_t>(np, 1)); // kept: set_scalars rewrites it every frame
+    resize_kept(point_data_, np); // kept: set_scalars rewrites it every frame
     for (std::size_t i = 0; i < np; ++i) point_data_[i] = glm::vec4(geometry_.positions[i], geometry_.scalars[i]);
-    if (!points_ || points_.id() == 0) {
-        points_ = buffer_of(point_data_, GL_DYNAMIC_STORAGE_BIT);
-        attach(points_texture_, GL_RGBA32F, points_);
-    } else {
-        glNamedBufferSubData(points_.id(), 0, GLsizeiptr(point_data_.size() * sizeof(glm::vec4)), point_data_.data());
-    }
+    upload(points_, points_texture_, GL_RGBA32F, point_data_.data(), np * sizeof(glm::vec4));
 }
 
 void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_name) {
@@ -185,11 +179,17 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
     }
     // Inverted cells (faces wound inward: negative volume) are drawn as their mirror-consistent
     // positive versions, so that front and back, entry and exit mean the same in every cell.
-    mesh_ = source;
+    // Everything here is written into the storage of the mesh before (a terrain's prisms are
+    // replaced every frame): the fields are not copied, the geometry holds the one in use.
+    mesh_.points = source.points;
+    mesh_.cell_types = source.cell_types;
+    mesh_.cell_offsets = source.cell_offsets;
+    mesh_.connectivity = source.connectivity;
+    mesh_.blocks = source.blocks;
+    mesh_.scalars.clear();
     orient_cells(mesh_);
-    geometry_ = build_projector_geometry(mesh_, field);
+    build_projector_geometry(mesh_, field, geometry_);
     field_range_ = field ? scalar_range(*field) : ScalarRange{0.0f, 0.0f};
-    mesh_.scalars.clear(); // the geometry holds the one field in use
     unique_faces_ready_ = false;
     unique_faces_.clear();
 
@@ -203,7 +203,6 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
         bounds_lo_ = glm::min(bounds_lo_, glm::dvec3(geometry_.positions[i]));
         bounds_hi_ = glm::max(bounds_hi_, glm::dvec3(geometry_.positions[i]));
     }
-    points_ = {};
     upload_point_data();
 
     // The slot numbering: cell c's vertex k is vertex id c·V + k.
@@ -212,14 +211,15 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
         if (t != CellType::Tetra) vertices_per_cell_ = 8;
     const std::uint32_t v = std::uint32_t(vertices_per_cell_);
     if (nc > std::size_t(0xFFFFFFFFu) / v) throw Error("cell renderer: too many cells (" + std::to_string(nc) + ")");
-    cell_triangle_vertices_.resize(3 * nt);
-    std::vector<std::uint32_t> words(std::max<std::size_t>(nc, 1));
-    std::vector<glm::vec4> planes(std::max<std::size_t>(nt, 1)), barycentrics;
+    resize_kept(cell_triangle_vertices_, 3 * nt);
+    resize_kept(words_, nc);
+    std::vector<glm::vec4>& barycentrics = barycentrics_data_;
+    barycentrics.clear();
     for (std::size_t c = 0; c < nc; ++c) {
         const std::uint32_t first = geometry_.cell_first_triangle[c], n = geometry_.cell_first_triangle[c + 1] - first;
         const CellType type = mesh_.cell_types[c];
         const std::uint32_t* cv = mesh_.cell_vertices(c);
-        words[c] = cell_word(first, n);
+        words_[c] = cell_word(first, n);
         // The cell's triangles in its own vertex numbers, in build_projector_geometry's order.
         std::uint32_t next = first;
         for (int f = 0; f < cell_face_count(type); ++f) {
@@ -231,43 +231,43 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
         for (std::uint32_t t = first; t < first + n; ++t) {
             const auto& tri = geometry_.triangles[t];
             const glm::dvec3 a(geometry_.positions[tri[0]]), b(geometry_.positions[tri[1]]), cc(geometry_.positions[tri[2]]);
-            planes[t] = triangle_plane(a, b, cc);
+            // The planes are the geometry's (triangle_planes: triangle_plane's, from the same floats).
             if (type == CellType::Tetra) continue; // convex, one plane per face: never searched
-            if (barycentrics.empty()) barycentrics.assign(2 * std::max<std::size_t>(nt, 1), glm::vec4(0.0f));
+            if (barycentrics.empty()) assign_kept(barycentrics, 2 * nt, glm::vec4(0.0f));
             barycentric_rows(a, b, cc, &barycentrics[2 * t]);
         }
     }
-    std::vector<glm::vec4> functions;
-    scalar_functions(functions);
-    std::vector<std::uint32_t> offsets(mesh_.cell_offsets.begin(), mesh_.cell_offsets.end());
+    scalar_functions(function_scratch_);
 
-    connectivity_ = buffer_of(mesh_.connectivity);
-    cell_offsets_ = buffer_of(offsets);
-    cell_words_ = buffer_of(words);
-    // Planes and scalar functions leave room for a frame's tetrahedra (upload_pieces).
-    piece_capacity_ = 0;
-    planes_ = buffer_of(planes, GL_DYNAMIC_STORAGE_BIT);
-    scalar_fns_ = buffer_of(functions, GL_DYNAMIC_STORAGE_BIT);
-    barycentrics_ = buffer_of(barycentrics);
-    elements_ = buffer_of(cell_triangle_vertices_);
-    attach(connectivity_texture_, GL_R32UI, connectivity_);
-    attach(cell_offsets_texture_, GL_R32UI, cell_offsets_);
-    attach(cell_words_texture_, GL_R32UI, cell_words_);
-    attach(planes_texture_, GL_RGBA32F, planes_);
-    attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_);
-    attach(barycentrics_texture_, GL_RGBA32F, barycentrics_);
+    // Planes and scalar functions leave room for a frame's tetrahedra (upload_pieces): their
+    // buffers keep what they had beyond the mesh's triangles.
+    const std::size_t nt_bytes = nt * sizeof(glm::vec4);
+    upload(connectivity_, connectivity_texture_, GL_R32UI, mesh_.connectivity.data(), mesh_.connectivity.size() * 4);
+    upload(cell_offsets_, cell_offsets_texture_, GL_R32UI, mesh_.cell_offsets.data(), mesh_.cell_offsets.size() * 4);
+    upload(cell_words_, cell_words_texture_, GL_R32UI, words_.data(), nc * 4);
+    upload(planes_, planes_texture_, GL_RGBA32F, geometry_.triangle_planes.data(), nt_bytes);
+    upload(scalar_fns_, scalar_fns_texture_, GL_RGBA32F, function_scratch_.data(), nt_bytes);
+    upload(barycentrics_, barycentrics_texture_, GL_RGBA32F, barycentrics.data(), barycentrics.size() * sizeof(glm::vec4));
     if (!vertex_array_) vertex_array_ = gl::VertexArray::create();
-    glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
-    static_bytes_ = (std::max<std::size_t>(np, 1) + 2 * std::max<std::size_t>(nt, 1) + std::max<std::size_t>(barycentrics.size(), 1)) * 16 +
-                    (mesh_.connectivity.size() + offsets.size() + words.size() + cell_triangle_vertices_.size()) * 4 +
-                    std::size_t(kTableSize + 1) * 3 * 16;
-    bytes_ = static_bytes_;
+    if (elements_.upload(cell_triangle_vertices_.data(), cell_triangle_vertices_.size() * 4) || !vertex_array_bound_) {
+        glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
+        vertex_array_bound_ = true;
+    }
+    bytes_ = gpu_capacity_bytes();
     FX_GL_CHECK("upload mesh");
+}
+
+std::size_t GlProjector::gpu_capacity_bytes() const {
+    std::size_t bytes = std::size_t(kTableSize + 1) * 3 * 16;
+    for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &planes_, &scalar_fns_,
+                                       &barycentrics_, &elements_, &piece_points_, &unique_faces_buffer_})
+        bytes += b->capacity();
+    return bytes;
 }
 
 void GlProjector::scalar_functions(std::vector<glm::vec4>& out) const {
     const std::size_t nc = mesh_.cell_count();
-    out.assign(std::max<std::size_t>(geometry_.triangles.size(), 1), glm::vec4(0.0f));
+    assign_kept(out, geometry_.triangles.size(), glm::vec4(0.0f));
     auto point = [&](std::uint32_t i) { return ScalarPoint{glm::dvec3(geometry_.positions[i]), double(geometry_.scalars[i])}; };
     for (std::size_t c = 0; c < nc; ++c) {
         const std::uint32_t first = geometry_.cell_first_triangle[c], end = geometry_.cell_first_triangle[c + 1];
@@ -430,23 +430,13 @@ void GlProjector::upload_pieces(const std::vector<std::uint32_t>& tetrahedra) {
     if (pieces == 0) return;
     if (nt + 4 * pieces > kMaxWordTriangle || pieces >= kPieceBit)
         throw Error("cell renderer: too many tetrahedra for one frame (" + std::to_string(pieces) + ")");
-    if (pieces > piece_capacity_) {
-        // Grow the planes and scalar functions, keeping the mesh's part.
-        const std::size_t capacity = std::max(pieces, piece_capacity_ * 3 / 2);
-        check_texture_buffer_size(nt + 4 * capacity, "face triangles and subdivided tetrahedra");
-        const std::size_t kept = std::max<std::size_t>(nt, 1) * 16;
-        for (gl::Buffer* buffer : {&planes_, &scalar_fns_}) {
-            gl::Buffer grown = gl::make_buffer(GLsizeiptr(kept + 4 * capacity * 16), nullptr, GL_DYNAMIC_STORAGE_BIT);
-            glCopyNamedBufferSubData(buffer->id(), grown.id(), 0, 0, GLsizeiptr(kept));
-            *buffer = std::move(grown);
-        }
-        piece_points_ = gl::make_buffer(GLsizeiptr(capacity * 16), nullptr, GL_DYNAMIC_STORAGE_BIT);
-        attach(planes_texture_, GL_RGBA32F, planes_);
-        attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_);
-        attach(piece_points_texture_, GL_RGBA32UI, piece_points_);
-        piece_capacity_ = capacity;
-        bytes_ = static_bytes_ + capacity * (4 * 16 + 4 * 16 + 16);
-    }
+    check_texture_buffer_size(nt + 4 * pieces, "face triangles and subdivided tetrahedra");
+    // Grow the planes and scalar functions keeping the mesh's part, and the pieces' points.
+    const std::size_t bytes = (nt + 4 * pieces) * sizeof(glm::vec4), kept = nt * sizeof(glm::vec4);
+    if (planes_.reserve(bytes, kept)) attach(planes_texture_, GL_RGBA32F, planes_.id());
+    if (scalar_fns_.reserve(bytes, kept)) attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_.id());
+    if (piece_points_.reserve(pieces * 16)) attach(piece_points_texture_, GL_RGBA32UI, piece_points_.id());
+    bytes_ = gpu_capacity_bytes();
     resize_kept(piece_data_, 8 * pieces); // 4 planes, then 4 scalar functions, per tetrahedron
     const CellFace* faces = cell_faces(CellType::Tetra);
     for (std::size_t i = 0; i < pieces; ++i) {
@@ -492,12 +482,7 @@ void GlProjector::append_cap_vertices(const NearCaps& caps, const ProjectedCells
 }
 
 void GlProjector::upload_frame(const std::vector<glm::uvec4>& data) {
-    const std::size_t n = std::max<std::size_t>(data.size(), 1);
-    if (n > frame_capacity_) {
-        frame_capacity_ = std::max(n, frame_capacity_ * 3 / 2);
-        frame_ = gl::make_buffer(GLsizeiptr(frame_capacity_ * sizeof(glm::uvec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    }
-    if (!data.empty()) glNamedBufferSubData(frame_.id(), 0, GLsizeiptr(data.size() * sizeof(glm::uvec4)), data.data());
+    frame_.upload(data.data(), data.size() * sizeof(glm::uvec4));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
     FX_GL_CHECK("upload frame data");
 }
@@ -505,7 +490,8 @@ void GlProjector::upload_frame(const std::vector<glm::uvec4>& data) {
 std::size_t GlProjector::unique_face_triangles() {
     if (!unique_faces_ready_) {
         // A face slot is drawn from the cell with the lower slot of the two that share it.
-        const FaceTopology topology = build_face_topology(mesh_);
+        build_face_topology(mesh_, topology_, topology_scratch_);
+        const FaceTopology& topology = topology_;
         unique_faces_.clear();
         for (std::size_t c = 0; c < mesh_.cell_count(); ++c) {
             const CellType type = mesh_.cell_types[c];
@@ -522,9 +508,8 @@ std::size_t GlProjector::unique_face_triangles() {
                 t += std::uint32_t(halves);
             }
         }
-        unique_faces_buffer_ = buffer_of(unique_faces_);
-        attach(unique_faces_texture_, GL_RGBA32UI, unique_faces_buffer_);
-        bytes_ += unique_faces_.size() * 16;
+        upload(unique_faces_buffer_, unique_faces_texture_, GL_RGBA32UI, unique_faces_.data(), unique_faces_.size() * 16);
+        bytes_ = gpu_capacity_bytes();
         unique_faces_ready_ = true;
     }
     return unique_faces_.size();
@@ -600,6 +585,8 @@ void GlCellList::bind(const gl::Program& program) const {
     glBindTextureUnit(kUnitSlotData, slot_data_texture_.id());
     glBindSampler(kUnitCellList, 0);
     glBindSampler(kUnitSlotData, 0);
+    // Tetrahedra draw with the mesh's element buffer, which a new mesh may have grown.
+    if (projector_.all_tetrahedra()) glVertexArrayElementBuffer(vertex_array_.id(), projector_.element_buffer());
     glBindVertexArray(vertex_array_.id());
 }
 

@@ -54,6 +54,7 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
+#include "fx/face_topology.hpp"
 #include "fx/polyhedron_projector.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl/gl_object.hpp"
@@ -160,7 +161,10 @@ private:
     void upload_point_data();
     void upload_tables(const TransferFunction& tf);
     void scalar_functions(std::vector<glm::vec4>& out) const; // per triangle, from the geometry's scalars
-    gl::Texture& attach(gl::Texture& texture, GLenum format, const gl::Buffer& buffer);
+    gl::Texture& attach(gl::Texture& texture, GLenum format, GLuint buffer);
+    // Writes `bytes` into `buffer`, attached to `texture` (again when the buffer grew).
+    void upload(gl::GrowingBuffer& buffer, gl::Texture& texture, GLenum format, const void* data, std::size_t bytes);
+    std::size_t gpu_capacity_bytes() const;
 
     std::shared_ptr<gl::ProgramCache> programs_;
     CellMesh mesh_;
@@ -171,29 +175,35 @@ private:
     TransferFunction transfer_;  // as in use
     int vertices_per_cell_ = 8;
     std::vector<std::uint32_t> cell_triangle_vertices_;
-    std::vector<glm::vec4> point_data_; // what points_ holds
+    // What the buffers were filled from, kept so that a new mesh of similar size (terrain
+    // prisms, every frame) and new scalars allocate nothing.
+    std::vector<glm::vec4> point_data_, barycentrics_data_;
+    std::vector<std::uint32_t> words_;
 
-    gl::Buffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, elements_;
+    // Grown, never shrunk; planes and scalar functions have room after the mesh's triangles for
+    // a frame's tetrahedra (upload_pieces).
+    gl::GrowingBuffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, elements_;
     gl::Texture points_texture_, connectivity_texture_, cell_offsets_texture_, cell_words_texture_, planes_texture_,
         scalar_fns_texture_, barycentrics_texture_;
     gl::VertexArray vertex_array_;
     gl::Buffer tables_buffer_;
     gl::Texture tables_;
     double s_lo_ = 0.0, s_hi_ = 1.0;
-    std::size_t static_bytes_ = 0, bytes_ = 0;
+    std::size_t bytes_ = 0;
+    bool vertex_array_bound_ = false; // to elements_
     // Pieces of a frame.
-    std::size_t piece_capacity_ = 0; // tetrahedra the buffers have room for
-    gl::Buffer piece_points_;
+    gl::GrowingBuffer piece_points_;
     gl::Texture piece_points_texture_;
     std::vector<glm::vec4> piece_data_, function_scratch_;
     // Unique faces (mip).
     std::vector<glm::uvec4> unique_faces_; // point ids, w unused
-    gl::Buffer unique_faces_buffer_;
+    FaceTopology topology_;                // kept with its scratch: a new mesh every frame allocates nothing
+    FaceTopologyScratch topology_scratch_;
+    gl::GrowingBuffer unique_faces_buffer_;
     gl::Texture unique_faces_texture_;
     bool unique_faces_ready_ = false;
     // Per-frame storage buffer (caps).
-    gl::Buffer frame_;
-    std::size_t frame_capacity_ = 0; // uvec4 entries
+    gl::GrowingBuffer frame_;
 };
 
 // A frame's list of cells to draw through the projector (absorption-exact's visibility order,

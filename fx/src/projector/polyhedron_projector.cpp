@@ -23,6 +23,11 @@ std::size_t ProjectorGeometry::memory_bytes() const {
 
 ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars) {
     ProjectorGeometry g;
+    build_projector_geometry(mesh, scalars, g);
+    return g;
+}
+
+void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, ProjectorGeometry& g) {
     const std::size_t np = mesh.point_count();
     if (scalars && scalars->values.size() != np) {
         throw Error("projector: scalar field '" + scalars->name + "' has " + std::to_string(scalars->values.size()) +
@@ -30,8 +35,8 @@ ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarFie
     }
     const Bounds bounds = mesh_bounds(mesh);
     g.origin = bounds.empty() ? glm::dvec3(0.0) : bounds.center();
-    g.positions.resize(np);
-    g.scalars.assign(np, 0.0f);
+    resize_kept(g.positions, np);
+    assign_kept(g.scalars, np, 0.0f);
     for (std::size_t i = 0; i < np; ++i) {
         const glm::dvec3& p = mesh.points[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
@@ -49,7 +54,11 @@ ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarFie
     }
 
     const std::size_t nc = mesh.cell_count();
-    g.cell_first_triangle.reserve(nc + 1);
+    g.cell_first_triangle.clear();
+    g.triangles.clear();
+    g.triangle_cell.clear();
+    g.triangle_planes.clear();
+    reserve_kept(g.cell_first_triangle, nc + 1);
     g.cell_first_triangle.push_back(0);
     for (std::size_t c = 0; c < nc; ++c) {
         const CellType type = mesh.cell_types[c];
@@ -84,7 +93,6 @@ ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarFie
         }
         g.cell_first_triangle.push_back(static_cast<std::uint32_t>(g.triangles.size()));
     }
-    return g;
 }
 
 double ProjectorView::depth(const glm::dvec3& p) const { return glm::dot(p - eye, forward) - near_distance; }

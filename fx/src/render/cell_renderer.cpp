@@ -69,8 +69,9 @@ struct CellRenderer::Impl {
         if (!absorption) absorption = std::make_unique<AbsorptionPass>(*projector);
         return *absorption;
     }
-    // The passes that depend on the mesh are dropped when it changes.
-    void mesh_changed() {
+    // Every pass made for the mesh's kind of cells (their programs are compiled for its
+    // vertices per cell) is dropped when that changes.
+    void cell_kind_changed() {
         pcp.reset(), pcp_exact.reset(), mip.reset(), absorption.reset();
     }
 };
@@ -87,8 +88,12 @@ CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name,
 }
 
 void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
-    impl_->mesh_changed(); // the absorption pass's subdivision, sorts and tables belong to the old mesh
+    // The absorption pass's subdivision, sorts and tables belong to the old mesh; the other
+    // passes keep only per-frame scratch and stay (with their storage) while the kind of cells does.
+    impl_->absorption.reset();
+    const int vertices_per_cell = impl_->projector->vertices_per_cell();
     impl_->projector->set_mesh(mesh, scalar_name);
+    if (impl_->projector->vertices_per_cell() != vertices_per_cell) impl_->cell_kind_changed();
 }
 
 void CellRenderer::set_scalars(const std::vector<float>& values) {

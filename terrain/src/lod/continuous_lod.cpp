@@ -197,7 +197,14 @@ struct ContinuousLod::Impl {
         nodes[s].flags |= flag;
         if (flag == kFanDirty) fan_dirty.push_back(s);
         if (flag == kVertexDirty) vertex_dirty[level_of(half_size(s))].push_back(s);
-        if (flag == kCandidate) candidates[level_of(half_size(s))].push_back(s);
+        if (flag == kCandidate) {
+            // A node is a candidate at most once, so a level's list never holds more than the
+            // level's live nodes: room for them all (while the tree grows) keeps the frames
+            // that flag the most candidates from allocating.
+            std::vector<std::uint32_t>& list = candidates[level_of(half_size(s))];
+            if (list.size() == list.capacity()) list.reserve(std::max<std::size_t>(2 * list.capacity(), live + 16));
+            list.push_back(s);
+        }
     }
     void mark_neighbours_changed(int i, int j, int h) {
         for (int side = 0; side < 4; ++side) {
@@ -406,8 +413,12 @@ struct ContinuousLod::Impl {
             candidates[l].clear();
         }
         // Stale heap entries pile up when nodes are rescheduled often: compact now and then.
-        if (wakes.size() > 4 * live + 1024)
+        const std::size_t most_wakes = 4 * live + 1024;
+        if (wakes.size() > most_wakes)
             wakes.remove_if([&](const Wake& w) { return w.generation != nodes[w.node].generation || !(nodes[w.node].state & kLive); });
+        // Room for the heap to fill up to the compaction threshold, and as much again for one
+        // frame's pushes: it grows only when the tree does, not whenever stale entries pile up.
+        if (wakes.items.capacity() < 2 * most_wakes) wakes.items.reserve(3 * most_wakes);
         finish_update();
     }
 
