@@ -33,6 +33,14 @@ bool GrowingBuffer::upload(const void* data, std::size_t bytes) {
     return made;
 }
 
+bool GrowingBuffer::upload(const void* data, std::size_t bytes, Texture& texture, GLenum format) {
+    if (!upload(data, bytes)) return false;
+    if (!texture) texture = Texture::create(GL_TEXTURE_BUFFER);
+    glTextureBuffer(texture.id(), format, buffer_.id());
+    FX_GL_CHECK("buffer texture");
+    return true;
+}
+
 Texture make_texture_2d(GLenum internal_format, int width, int height, int levels) {
     if (width <= 0 || height <= 0 || levels <= 0)
         throw Error("make_texture_2d: bad size " + std::to_string(width) + "x" + std::to_string(height) +

@@ -157,6 +157,9 @@ public:
     bool reserve(std::size_t bytes, std::size_t keep = 0);
     // reserve(bytes), then writes `bytes` of `data` at offset 0; returns reserve's answer.
     bool upload(const void* data, std::size_t bytes);
+    // The same for a buffer read through `texture` (a GL_TEXTURE_BUFFER, made on first use),
+    // which is attached again, with `format`, when the storage was made anew.
+    bool upload(const void* data, std::size_t bytes, Texture& texture, GLenum format);
     GLuint id() const { return buffer_.id(); }
     std::size_t capacity() const { return capacity_; }
 

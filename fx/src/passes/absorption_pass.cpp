@@ -76,7 +76,7 @@ void AbsorptionPass::transfer_function_changed() {
     preintegration_ready_ = false;
 }
 
-std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_capacity_ + index_capacity_ + exact_list_.gpu_bytes(); }
+std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_.capacity() + index_.capacity() + exact_list_.gpu_bytes(); }
 
 const VisibilitySort& AbsorptionPass::sort_for(SortMethod method, CellRenderStats& stats) {
     auto it = sorts_.find(method);
@@ -166,16 +166,6 @@ void AbsorptionPass::build_exact_frame() {
     }
 }
 
-void AbsorptionPass::upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
-    bytes = std::max<std::size_t>(bytes, 16);
-    if (bytes > capacity || !buffer) {
-        capacity = std::max(bytes, capacity * 3 / 2);
-        buffer = gl::make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    }
-    if (data) glNamedBufferSubData(buffer.id(), 0, GLsizeiptr(bytes), data);
-    FX_GL_CHECK("absorption: upload");
-}
-
 void AbsorptionPass::ensure_opacity_table() {
     if (opacity_ready_) return;
     const OpacityTable table = build_opacity_table(kOpacitySizeTexels, classic_settings_.max_product);
@@ -248,10 +238,9 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     for (std::size_t t = 0; t < chunks_; ++t) {
         const ClassicGeometry& part = parts_[t];
         if (part.indices.empty()) continue;
-        upload(frame_, frame_capacity_, part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
-        const GLuint old_index = index_.id();
-        upload(index_, index_capacity_, part.indices.data(), part.indices.size() * sizeof(std::uint32_t));
-        if (index_.id() != old_index) glVertexArrayElementBuffer(vao_.id(), index_.id());
+        frame_.upload(part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
+        if (index_.upload(part.indices.data(), part.indices.size() * sizeof(std::uint32_t)))
+            glVertexArrayElementBuffer(vao_.id(), index_.id());
         glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
         glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
         stats.draw_calls += 1;

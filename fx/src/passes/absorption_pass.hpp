@@ -66,7 +66,6 @@ private:
     const VisibilitySort& sort_for(SortMethod method, CellRenderStats& stats);
     void ensure_opacity_table();
     void ensure_preintegration_table();
-    void upload(gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
 
     GlProjector& projector_;
     const ProgramVariants classic_programs_;
@@ -89,8 +88,7 @@ private:
     GlCellList exact_list_;
 
     gl::VertexArray vao_; // classic: its element buffer is index_
-    gl::Buffer frame_, index_;
-    std::size_t frame_capacity_ = 0, index_capacity_ = 0;
+    gl::GrowingBuffer frame_, index_;
     gl::Texture opacity_, preintegration_;
     gl::Buffer preintegration_buffer_, opacity_buffer_;
     bool opacity_ready_ = false, preintegration_ready_ = false;

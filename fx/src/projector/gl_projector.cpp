@@ -157,16 +157,11 @@ gl::Texture& GlProjector::attach(gl::Texture& texture, GLenum format, GLuint buf
     return texture;
 }
 
-void GlProjector::upload(gl::GrowingBuffer& buffer, gl::Texture& texture, GLenum format, const void* data,
-                         std::size_t bytes) {
-    if (buffer.upload(data, bytes)) attach(texture, format, buffer.id());
-}
-
 void GlProjector::upload_point_data() {
     const std::size_t np = geometry_.positions.size();
     resize_kept(point_data_, np); // kept: set_scalars rewrites it every frame
     for (std::size_t i = 0; i < np; ++i) point_data_[i] = glm::vec4(geometry_.positions[i], geometry_.scalars[i]);
-    upload(points_, points_texture_, GL_RGBA32F, point_data_.data(), np * sizeof(glm::vec4));
+    points_.upload(point_data_.data(), np * sizeof(glm::vec4), points_texture_, GL_RGBA32F);
 }
 
 void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_name) {
@@ -242,17 +237,15 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
     // Planes and scalar functions leave room for a frame's tetrahedra (upload_pieces): their
     // buffers keep what they had beyond the mesh's triangles.
     const std::size_t nt_bytes = nt * sizeof(glm::vec4);
-    upload(connectivity_, connectivity_texture_, GL_R32UI, mesh_.connectivity.data(), mesh_.connectivity.size() * 4);
-    upload(cell_offsets_, cell_offsets_texture_, GL_R32UI, mesh_.cell_offsets.data(), mesh_.cell_offsets.size() * 4);
-    upload(cell_words_, cell_words_texture_, GL_R32UI, words_.data(), nc * 4);
-    upload(planes_, planes_texture_, GL_RGBA32F, geometry_.triangle_planes.data(), nt_bytes);
-    upload(scalar_fns_, scalar_fns_texture_, GL_RGBA32F, function_scratch_.data(), nt_bytes);
-    upload(barycentrics_, barycentrics_texture_, GL_RGBA32F, barycentrics.data(), barycentrics.size() * sizeof(glm::vec4));
+    connectivity_.upload(mesh_.connectivity.data(), mesh_.connectivity.size() * 4, connectivity_texture_, GL_R32UI);
+    cell_offsets_.upload(mesh_.cell_offsets.data(), mesh_.cell_offsets.size() * 4, cell_offsets_texture_, GL_R32UI);
+    cell_words_.upload(words_.data(), nc * 4, cell_words_texture_, GL_R32UI);
+    planes_.upload(geometry_.triangle_planes.data(), nt_bytes, planes_texture_, GL_RGBA32F);
+    scalar_fns_.upload(function_scratch_.data(), nt_bytes, scalar_fns_texture_, GL_RGBA32F);
+    barycentrics_.upload(barycentrics.data(), barycentrics.size() * sizeof(glm::vec4), barycentrics_texture_, GL_RGBA32F);
     if (!vertex_array_) vertex_array_ = gl::VertexArray::create();
-    if (elements_.upload(cell_triangle_vertices_.data(), cell_triangle_vertices_.size() * 4) || !vertex_array_bound_) {
+    if (elements_.upload(cell_triangle_vertices_.data(), cell_triangle_vertices_.size() * 4))
         glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
-        vertex_array_bound_ = true;
-    }
     bytes_ = gpu_capacity_bytes();
     FX_GL_CHECK("upload mesh");
 }
@@ -508,7 +501,7 @@ std::size_t GlProjector::unique_face_triangles() {
                 t += std::uint32_t(halves);
             }
         }
-        upload(unique_faces_buffer_, unique_faces_texture_, GL_RGBA32UI, unique_faces_.data(), unique_faces_.size() * 16);
+        unique_faces_buffer_.upload(unique_faces_.data(), unique_faces_.size() * 16, unique_faces_texture_, GL_RGBA32UI);
         bytes_ = gpu_capacity_bytes();
         unique_faces_ready_ = true;
     }
@@ -528,30 +521,10 @@ GlCellList::GlCellList(const GlProjector& projector) : projector_(projector) {
     if (projector.all_tetrahedra()) glVertexArrayElementBuffer(vertex_array_.id(), projector.element_buffer());
 }
 
-void GlCellList::grow(gl::Buffer& buffer, gl::Texture* texture, GLenum format, std::size_t& capacity, std::size_t bytes) {
-    bytes = std::max<std::size_t>(bytes, 16);
-    if (bytes <= capacity && buffer) return;
-    capacity_bytes_ -= capacity;
-    capacity = std::max(bytes, capacity * 3 / 2);
-    capacity_bytes_ += capacity;
-    buffer = gl::make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    if (texture) {
-        if (!*texture) *texture = gl::Texture::create(GL_TEXTURE_BUFFER);
-        glTextureBuffer(texture->id(), format, buffer.id());
-    } else {
-        glVertexArrayElementBuffer(vertex_array_.id(), buffer.id());
-    }
-    FX_GL_CHECK("cell list buffers");
-}
-
 void GlCellList::upload(const std::vector<std::uint32_t>& cells, const std::vector<glm::vec2>& ranges) {
     slots_ = cells.size();
-    grow(cells_, &cells_texture_, GL_R32UI, cells_capacity_, cells.size() * 4);
-    if (!cells.empty()) glNamedBufferSubData(cells_.id(), 0, GLsizeiptr(cells.size() * 4), cells.data());
-    if (!ranges.empty()) {
-        grow(slot_data_, &slot_data_texture_, GL_RG32F, slot_data_capacity_, ranges.size() * sizeof(glm::vec2));
-        glNamedBufferSubData(slot_data_.id(), 0, GLsizeiptr(ranges.size() * sizeof(glm::vec2)), ranges.data());
-    }
+    cells_.upload(cells.data(), cells.size() * 4, cells_texture_, GL_R32UI);
+    if (!ranges.empty()) slot_data_.upload(ranges.data(), ranges.size() * sizeof(glm::vec2), slot_data_texture_, GL_RG32F);
     if (projector_.all_tetrahedra()) return; // the mesh's own element buffer: the same pattern per slot
     // Each entry's triangles, renumbered to its slot: vertex k of slot s is s·8 + k.
     const std::vector<std::uint32_t>& first_triangle = projector_.geometry().cell_first_triangle;
@@ -573,9 +546,8 @@ void GlCellList::upload(const std::vector<std::uint32_t>& cells, const std::vect
             elements_data_.push_back(base + mesh_elements[i] % v);
     }
     first_element_[slots_] = elements_data_.size();
-    grow(elements_, nullptr, 0, elements_capacity_, elements_data_.size() * 4);
-    if (!elements_data_.empty())
-        glNamedBufferSubData(elements_.id(), 0, GLsizeiptr(elements_data_.size() * 4), elements_data_.data());
+    if (elements_.upload(elements_data_.data(), elements_data_.size() * 4))
+        glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
     FX_GL_CHECK("cell list upload");
 }
 

@@ -162,8 +162,6 @@ private:
     void upload_tables(const TransferFunction& tf);
     void scalar_functions(std::vector<glm::vec4>& out) const; // per triangle, from the geometry's scalars
     gl::Texture& attach(gl::Texture& texture, GLenum format, GLuint buffer);
-    // Writes `bytes` into `buffer`, attached to `texture` (again when the buffer grew).
-    void upload(gl::GrowingBuffer& buffer, gl::Texture& texture, GLenum format, const void* data, std::size_t bytes);
     std::size_t gpu_capacity_bytes() const;
 
     std::shared_ptr<gl::ProgramCache> programs_;
@@ -190,7 +188,6 @@ private:
     gl::Texture tables_;
     double s_lo_ = 0.0, s_hi_ = 1.0;
     std::size_t bytes_ = 0;
-    bool vertex_array_bound_ = false; // to elements_
     // Pieces of a frame.
     gl::GrowingBuffer piece_points_;
     gl::Texture piece_points_texture_;
@@ -223,16 +220,14 @@ public:
     // Draws entries [first, first + count) (by their triangles; 3 vertices each).
     void draw(std::size_t first, std::size_t count) const;
     std::size_t size() const { return slots_; }
-    std::size_t gpu_bytes() const { return capacity_bytes_; }
+    std::size_t gpu_bytes() const { return cells_.capacity() + slot_data_.capacity() + elements_.capacity(); }
 
 private:
-    void grow(gl::Buffer& buffer, gl::Texture* texture, GLenum format, std::size_t& capacity, std::size_t bytes);
 
     const GlProjector& projector_;
-    gl::Buffer cells_, slot_data_, elements_;
+    gl::GrowingBuffer cells_, slot_data_, elements_;
     gl::Texture cells_texture_, slot_data_texture_;
     gl::VertexArray vertex_array_;
-    std::size_t cells_capacity_ = 0, slot_data_capacity_ = 0, elements_capacity_ = 0, capacity_bytes_ = 0;
     std::size_t slots_ = 0;
     std::vector<std::uint32_t> elements_data_;
     std::vector<std::size_t> first_element_; // per slot + 1 (cells other than tetrahedra)
