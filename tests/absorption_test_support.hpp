@@ -21,6 +21,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
 #include "fx/synthetic_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace absorption_test {
 

@@ -37,6 +37,7 @@
 #include "fx/synthetic_meshes.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl_fixture.hpp"
+#include "cellfx_names.hpp"
 
 namespace hard_case {
 

@@ -6,6 +6,7 @@
 
 #include "fx/cell_mesh.hpp"
 #include "fx/tetrahedralize.hpp"
+#include "cellfx_names.hpp"
 
 namespace fx_test {
 

@@ -17,6 +17,7 @@
 #include "fx/image.hpp"
 #include "fx/synthetic_meshes.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace scanline_test {
 

@@ -21,6 +21,7 @@
 #include "fx/synthetic_meshes.hpp"
 #include "fx/tetrahedralize.hpp"
 #include "mesh_builders.hpp"
+#include "cellfx_names.hpp"
 
 namespace sort_test {
 

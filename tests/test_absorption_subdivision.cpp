@@ -22,6 +22,7 @@
 #include "mesh_builders.hpp"
 #include "projector_meshes.hpp"
 #include "scanline_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

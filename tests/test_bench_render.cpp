@@ -21,6 +21,7 @@
 #include "fx/mesh_validation.hpp"
 #include "fx/synthetic_meshes.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -18,6 +18,7 @@
 #include "gl/render_target.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 std::atomic<bool> counting{false};

@@ -24,6 +24,7 @@
 
 #include "cellfx/cellfx.hpp"
 #include "gl_fixture.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -17,6 +17,7 @@
 #include "fx/mesh_validation.hpp"
 #include "fx/tetrahedralize.hpp"
 #include "hard_case_support.hpp"
+#include "cellfx_names.hpp"
 
 using hard_case::LinearBox;
 using hard_case::Path;

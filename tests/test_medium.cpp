@@ -20,6 +20,7 @@
 #include "terrain/scene_renderer.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -12,6 +12,7 @@
 #include "fx/tetrahedralize.hpp"
 #include "mesh_builders.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -13,6 +13,7 @@
 #include "fx/polyhedron_projector.hpp"
 #include "mesh_builders.hpp"
 #include "projector_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

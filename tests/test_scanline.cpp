@@ -11,6 +11,7 @@
 #include "fx/synthetic_meshes.hpp"
 #include "fx/tetrahedralize.hpp"
 #include "scanline_test_support.hpp"
+#include "cellfx_names.hpp"
 
 using namespace scanline_test;
 

@@ -14,6 +14,7 @@
 #include "mesh_builders.hpp"
 #include "sort_test_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -34,6 +34,7 @@
 #include "fx/tetrahedralize.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -28,6 +28,7 @@
 #include "fx/mesh_io.hpp"
 #include "fx/synthetic_meshes.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

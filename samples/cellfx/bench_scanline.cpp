@@ -19,6 +19,7 @@
 #include "fx/scanline_renderer.hpp"
 #include "fx/synthetic_meshes.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

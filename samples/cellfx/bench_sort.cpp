@@ -29,6 +29,7 @@
 #include "fx/tetrahedralize.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -11,6 +11,7 @@
 #include "fx/vtk_legacy.hpp"
 #include "mesh_input.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

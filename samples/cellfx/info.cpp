@@ -10,6 +10,7 @@
 #include "fx/face_topology.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 

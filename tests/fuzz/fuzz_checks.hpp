@@ -37,6 +37,7 @@
 #include "fx/vtk_legacy.hpp"
 #include "terrain/height_field.hpp"
 #include "terrain/scene.hpp"
+#include "../cellfx_names.hpp"
 
 namespace fx_fuzz {
 

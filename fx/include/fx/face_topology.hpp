@@ -16,7 +16,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct FaceTopology {
     static constexpr std::uint32_t kBoundary = 0xFFFFFFFFu;
@@ -37,4 +37,4 @@ struct FaceTopology {
 
 FaceTopology build_face_topology(const CellMesh& mesh);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -35,7 +35,7 @@
 #include "fx/segment_integral.hpp"
 #include "fx/transfer_function.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Spans are cut into pieces of at most this optical depth (see the header comment).
 constexpr double kMaxPieceDepth = 0.25;
@@ -110,4 +110,4 @@ private:
     std::vector<std::size_t> point_lights_;    // volumes with a point light
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -45,7 +45,7 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/medium.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct PixelRect {
     int x = 0, y = 0, width = 0, height = 0; // in the viewport's pixels
@@ -104,4 +104,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

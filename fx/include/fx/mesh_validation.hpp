@@ -26,7 +26,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/face_topology.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class MeshProblemKind {
     IndexOutOfRange,
@@ -99,4 +99,4 @@ struct OrientationReport {
 // swap 1 and 2; pyramid: reverse the base; wedge and hexahedron: swap the two end faces).
 OrientationReport orient_cells(CellMesh& mesh);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -12,7 +12,7 @@
 #include "fx/segment_integral.hpp"
 #include "fx/tetrahedralize.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 OpacityTable build_opacity_table(int size, double max_product) {
     if (size < 2) throw Error("opacity table: size must be at least 2, got " + std::to_string(size));
@@ -316,4 +316,4 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
     out.polygons += subdivision_.polygon_count();
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
@@ -342,4 +342,4 @@ void clip_polyhedron(const ConvexPolyhedron& in, const std::vector<double>& f, c
         out.triangles.push_back({ordered[0].second, ordered[i].second, ordered[i + 1].second});
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -9,7 +9,7 @@
 
 #include "fx/tetrahedralize.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 ViewDependentSubdivision::ViewDependentSubdivision(const CellMesh& mesh, double planarity) : mesh_(mesh) {
     const std::size_t nc = mesh.cell_count();
@@ -90,4 +90,4 @@ void ViewDependentSubdivision::rebuild() {
     }
 }
 
-} // namespace fx
+} // namespace cellfx::fx

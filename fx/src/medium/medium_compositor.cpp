@@ -24,7 +24,7 @@
 #include "projector/gl_interface.hpp"
 #include "render/projector_access.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag). The append
@@ -434,4 +434,4 @@ PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int
     return {ix0, iy0, ix1 - ix0, iy1 - iy0};
 }
 
-} // namespace fx
+} // namespace cellfx::fx

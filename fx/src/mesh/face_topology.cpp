@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // A face's vertex set, sorted, padded with 0xFFFFFFFF for triangles, plus its slot.
@@ -87,4 +87,4 @@ FaceTopology build_face_topology(const CellMesh& mesh) {
     return topo;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -11,7 +11,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
@@ -420,4 +420,4 @@ OrientationReport orient_cells(CellMesh& mesh) {
     return report;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -19,7 +19,7 @@
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -258,4 +258,4 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     FX_GL_CHECK("absorption draw");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

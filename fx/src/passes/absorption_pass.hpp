@@ -39,7 +39,7 @@
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class AbsorptionPass {
 public:
@@ -98,4 +98,4 @@ private:
     std::size_t table_bytes_ = 0;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

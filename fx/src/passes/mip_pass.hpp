@@ -16,7 +16,7 @@
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class MipPass {
 public:
@@ -32,4 +32,4 @@ private:
     std::vector<glm::uvec4> frame_data_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -4,7 +4,7 @@
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 PcpPass::PcpPass(GlProjector& projector)
     : projector_(projector), programs_(projector.programs({"cells.vert", "pcp.frag"},
                                                         projector.mesh_defines().set("CELL_LIST").set("CLASSIC"))),
@@ -110,4 +110,4 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     FX_GL_CHECK("pcp draw");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -19,7 +19,7 @@
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class PcpPass {
 public:
@@ -41,4 +41,4 @@ private:
     std::vector<glm::uvec4> cap_data_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -7,7 +7,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Margin around the projected hull, in pixels. Rasterisation covers pixel centres inside the
@@ -162,4 +162,4 @@ std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std
     return batches;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -17,7 +17,7 @@
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 constexpr int kTableSize = 4096;
@@ -613,4 +613,4 @@ void GlCellList::draw(std::size_t first, std::size_t count) const {
                        reinterpret_cast<const void*>(begin * sizeof(std::uint32_t)));
 }
 
-} // namespace fx
+} // namespace cellfx::fx

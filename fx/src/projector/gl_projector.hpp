@@ -60,7 +60,7 @@
 #include "gl/program_cache.hpp"
 #include "gl/shader_library.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // A projector program in two variants: without and with the scene's depth (SCENE_DEPTH defined,
 // project.glsl). Testing against the scene costs every fragment a fetch and two divisions, and
@@ -226,4 +226,4 @@ private:
     std::vector<std::size_t> first_element_; // per slot + 1 (cells other than tetrahedra)
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -11,7 +11,7 @@
 
 #include "fx/error.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 std::size_t ProjectorGeometry::memory_bytes() const {
     return positions.capacity() * sizeof(glm::vec3) + scalars.capacity() * sizeof(float) +
@@ -237,4 +237,4 @@ void build_near_caps(const ProjectorGeometry& geometry, const ProjectorView& vie
     for (std::uint32_t c : projected.cut_cells) append_near_cap(geometry, view, projected, c, caps);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

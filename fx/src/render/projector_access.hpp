@@ -6,10 +6,10 @@
 #include "fx/cell_renderer.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct ProjectorAccess {
     static const GlProjector& projector(const CellRenderer& renderer);
 };
 
-} // namespace fx
+} // namespace cellfx::fx

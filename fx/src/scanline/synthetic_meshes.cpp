@@ -10,7 +10,7 @@
 #include "fx/error.hpp"
 #include "fx/tetrahedralize.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 void append_curvilinear_block(CellMesh& mesh, const std::string& name, std::array<std::uint32_t, 3> dims,
                               const std::function<glm::dvec3(double u, double v, double w)>& map) {
@@ -134,4 +134,4 @@ CellMesh make_curved_duct(std::size_t cells, bool tetrahedra) {
     return tetrahedra ? tetrahedralize(mesh) : mesh;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

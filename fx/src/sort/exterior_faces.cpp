@@ -30,7 +30,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 using Projection = ExteriorProjection;
 
 namespace {
@@ -361,4 +361,4 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
                            out.memory_bytes();
 }
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

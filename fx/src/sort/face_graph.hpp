@@ -23,7 +23,7 @@
 #include "fx/face_topology.hpp"
 #include "fx/visibility_sort.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 
 // Per view: extra directed edges "source is drawn before target" between cells that share no
 // face (XMPVO). Built by ExteriorEdges::build(); empty for MPVO.
@@ -70,4 +70,4 @@ private:
     mutable std::vector<std::uint32_t> remaining_;
 };
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

@@ -14,7 +14,7 @@
 #include "fx/face_topology.hpp"
 #include "key_sort.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 void check_vertex_indices(const CellMesh& mesh) {
@@ -116,4 +116,4 @@ std::size_t VisibilitySort::memory_bytes() const {
 
 std::size_t VisibilitySort::boundary_triangle_count() const { return exterior_ ? exterior_->triangle_count() : 0; }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -48,7 +48,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/surface_renderer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // What update() did with an effect this frame.
 enum class EffectStatus {
@@ -252,4 +252,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

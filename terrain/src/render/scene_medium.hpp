@@ -10,7 +10,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/medium_compositor.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // One volume that may take part (an effect drawn with a path of the emission–absorption model).
 struct MediumCandidate {
@@ -37,4 +37,4 @@ struct MediumPlan {
 void plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camera& camera, int width, int height,
                  MediumPlan& plan);
 
-} // namespace terrain
+} // namespace cellfx::terrain
