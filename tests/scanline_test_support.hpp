@@ -15,7 +15,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "test_paths.hpp"
 #include "cellfx_names.hpp"
 

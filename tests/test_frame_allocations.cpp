@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
 #include "gl_fixture.hpp"

@@ -15,7 +15,7 @@
 #include <cmath>
 
 #include "fx/mesh_validation.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "hard_case_support.hpp"
 #include "cellfx_names.hpp"
 

@@ -1,12 +1,14 @@
 // The installed headers (fx/include, terrain/include: cmake/Install.cmake) declare nothing at
 // the top level but namespace cellfx, so a game's own fx, terrain or Scene cannot clash with
-// them. tests/consumer builds a game with its own fx::Error and terrain::Scene against them.
+// them, and include no internal header. tests/consumer builds a game with its own fx::Error
+// and terrain::Scene against them.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -123,6 +125,25 @@ TEST_CASE("the installed headers declare nothing outside namespace cellfx", "[pu
         const std::vector<std::string> found = top_level_outside_cellfx(header);
         CAPTURE(found);
         CHECK(found.empty());
+    }
+}
+
+TEST_CASE("the installed headers include only installed headers", "[public_headers]") {
+    // fx/src and fx/internal are not installed: a public header that includes one of them
+    // compiles here and breaks in a game's build.
+    const std::vector<PublicHeader> headers = public_headers();
+    std::set<std::string> installed;
+    for (const PublicHeader& header : headers) installed.insert(header.name);
+    static const std::regex quoted_include(R"re(^\s*#\s*include\s*"([^"]+)")re");
+    for (const PublicHeader& header : headers) {
+        std::istringstream lines(read_text(header.file));
+        std::string line;
+        for (int number = 1; std::getline(lines, line); ++number) {
+            std::smatch m;
+            if (!std::regex_search(line, m, quoted_include)) continue;
+            CAPTURE(header.name, number, line);
+            CHECK(installed.count(m[1].str()) == 1);
+        }
     }
 }
 

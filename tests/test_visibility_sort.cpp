@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/visibility_sort.hpp"

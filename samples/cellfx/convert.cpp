@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "fx/error.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "fx/vtk_legacy.hpp"
 #include "mesh_input.hpp"
 #include "options.hpp"

@@ -1,6 +1,6 @@
 // Based on: Max, Williams & Silva 2000, §II (2-D exponential texture, analytic vertex colour
 // divided by α) and §V (slicing cells at transfer-function breakpoints).
-#include "fx/absorption_classic.hpp"
+#include "absorption/absorption_classic.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "fx/error.hpp"
 #include "fx/segment_integral.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
 namespace cellfx::fx {
 

@@ -1,7 +1,7 @@
 // Based on: Max, Williams & Silva 2000, §II (polyhedron projection: the subdivision of the
 // image plane by the projected edges, thickness and front/back values at its vertices) and
 // Shirley & Tuchman 1990 (the four projection classes of a tetrahedron).
-#include "fx/projected_subdivision.hpp"
+#include "absorption/projected_subdivision.hpp"
 
 #include <algorithm>
 #include <cmath>

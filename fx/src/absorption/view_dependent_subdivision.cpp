@@ -1,13 +1,13 @@
 // Based on: Max, Williams & Silva 2000, §V (view-dependent subdivision of problem cells) and
 // §IV (consistent tetrahedra).
-#include "fx/view_dependent_subdivision.hpp"
+#include "absorption/view_dependent_subdivision.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
 namespace cellfx::fx {
 

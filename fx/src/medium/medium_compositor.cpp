@@ -1,7 +1,7 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (intersecting grids integrated in depth
 // order per pixel), on the GPU with per-pixel lists of ray segments. Shaders:
 // medium_lists.glsl, medium_append.frag (with the projector's cells.vert), medium_resolve.frag.
-#include "fx/medium_compositor.hpp"
+#include "medium/medium_compositor.hpp"
 
 #include <algorithm>
 #include <array>

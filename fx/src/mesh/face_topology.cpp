@@ -1,4 +1,4 @@
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 
 #include <algorithm>
 #include <array>

@@ -10,6 +10,7 @@
 
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
+#include "mesh/face_topology.hpp"
 
 namespace cellfx::fx {
 namespace {

@@ -1,5 +1,5 @@
 // Based on: Max, Williams & Silva 2000, §IV — the smallest-vertex diagonal rule.
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
 #include <algorithm>
 #include <utility>

@@ -12,7 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 

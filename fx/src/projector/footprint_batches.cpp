@@ -1,5 +1,5 @@
 // Based on: Roettger & Ertl 2003, §3 (three passes per cell through the alpha channel).
-#include "fx/footprint_batches.hpp"
+#include "projector/footprint_batches.hpp"
 
 #include <algorithm>
 #include <cmath>

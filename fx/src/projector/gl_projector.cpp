@@ -11,7 +11,7 @@
 #include <glm/matrix.hpp>
 
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"

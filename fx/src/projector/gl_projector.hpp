@@ -54,7 +54,7 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/program_cache.hpp"

@@ -1,5 +1,5 @@
 // Based on: Roettger & Ertl 2003, §3 (d, d_min, Δd, front/back faces) and §5 (near-plane caps).
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 
 #include <algorithm>
 #include <cmath>

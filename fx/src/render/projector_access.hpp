@@ -1,5 +1,5 @@
 // cellfx — for passes that draw a CellRenderer's mesh with a program of their own (the medium
-// compositor, fx/medium_compositor.hpp), sharing the renderer's GL projector: its uploaded
+// compositor, medium/medium_compositor.hpp), sharing the renderer's GL projector: its uploaded
 // mesh, tables, shared programs and uniforms.
 #pragma once
 

@@ -33,7 +33,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/resource_limits.hpp"
 #include "fx/segment_integral.hpp"

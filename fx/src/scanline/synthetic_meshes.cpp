@@ -1,5 +1,5 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §4.1 and Table 3 (data-set dimensions)
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
 namespace cellfx::fx {
 

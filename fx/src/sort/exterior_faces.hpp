@@ -13,7 +13,7 @@
 #include "face_graph.hpp"
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/visibility_sort.hpp"
 
 namespace cellfx::fx::sort_detail {

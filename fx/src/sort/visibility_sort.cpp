@@ -11,7 +11,7 @@
 #include "exterior_faces.hpp"
 #include "face_graph.hpp"
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "key_sort.hpp"
 
 namespace cellfx::fx {

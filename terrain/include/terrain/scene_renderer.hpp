@@ -41,7 +41,7 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/effect.hpp"
 #include "fx/image.hpp"
-#include "fx/medium_compositor.hpp"
+#include "fx/medium.hpp"
 #include "fx/parallel_for.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"

@@ -27,7 +27,7 @@
 #include <glm/vec2.hpp>
 
 #include "fx/cell_mesh.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 
 namespace cellfx::fx {
 

@@ -45,8 +45,8 @@
 #include <glm/vec4.hpp>
 
 #include "fx/cell_mesh.hpp"
-#include "fx/polyhedron_projector.hpp"
-#include "fx/projected_subdivision.hpp"
+#include "projector/polyhedron_projector.hpp"
+#include "absorption/projected_subdivision.hpp"
 #include "fx/transfer_function.hpp"
 
 namespace cellfx::fx {

@@ -48,7 +48,7 @@
 #include <glm/vec3.hpp>
 
 #include "fx/camera.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 
 namespace cellfx::fx {
 
