@@ -22,7 +22,7 @@ bash "$root/scripts/setup.sh" vtk
 cellfx="${CELLFX:-$root/build/samples/cellfx}"
 if [ ! -x "$cellfx" ]; then
   cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$root/build" --target cellfx
+  cmake --build "$root/build" --target cellfx_cli
 fi
 
 name="$(basename "${files[0]}")"

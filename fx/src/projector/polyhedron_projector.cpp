@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -28,6 +29,22 @@ ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarFie
                     " values for " + std::to_string(np) + " points");
     }
     const Bounds bounds = mesh_bounds(mesh);
+    if (!bounds.empty()) {
+        const auto text = [](double v) {
+            char buffer[32];
+            std::snprintf(buffer, sizeof buffer, "%g", v);
+            return std::string(buffer);
+        };
+        for (const glm::dvec3& corner : {bounds.lo, bounds.hi})
+            if (std::max({std::abs(corner.x), std::abs(corner.y), std::abs(corner.z)}) > kMaxCoordinate)
+                throw Error("projector: the mesh reaches (" + text(corner.x) + ", " + text(corner.y) + ", " +
+                            text(corner.z) + "), beyond ±" + text(kMaxCoordinate) +
+                            ", the coordinates cellfx renders (scale the mesh)");
+        const double extent = glm::length(bounds.size());
+        if (extent > 0.0 && extent < kMinProjectorExtent)
+            throw Error("projector: the mesh spans " + text(extent) + " (its bounding box's diagonal), under " +
+                        text(kMinProjectorExtent) + ", the smallest the GPU paths keep float precision for (scale the mesh)");
+    }
     g.origin = bounds.empty() ? glm::dvec3(0.0) : bounds.center();
     g.positions.resize(np);
     g.scalars.assign(np, 0.0f);

@@ -55,9 +55,18 @@ struct ProjectorGeometry {
     std::size_t memory_bytes() const;
 };
 
+// The smallest mesh the geometry keeps float precision for: the diagonal of the bounds of the
+// points its cells use. Positions are floats relative to the mesh's centre; below ~1e-31
+// differences between them at float's 1e-7 relative precision fall under float's smallest
+// normal number (1.2e-38), which GPUs flush to zero, and the GPU paths draw nothing or a
+// wrong picture (measured: blank from 1e-36). Scale-free above it: tests/test_hard_cases.cpp,
+// "a cube at 10^K".
+constexpr double kMinProjectorExtent = 1.0e-30;
+
 // Builds the view-independent geometry. `scalars` may be null (all scalars 0); otherwise it
 // must hold one value per mesh point. Throws fx::Error on a size mismatch, an index out of
-// range or a non-finite coordinate/scalar (never drawn).
+// range, a non-finite coordinate/scalar (never drawn), a used point beyond ±kMaxCoordinate or
+// a mesh of extent under kMinProjectorExtent (zero extent is no error: nothing to draw).
 ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars);
 
 // The camera in the geometry's relative frame (doubles; the GPU gets floats of these).
