@@ -16,11 +16,12 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
-#include "fx/absorption_classic.hpp"
+#include "absorption/absorption_classic.hpp"
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace absorption_test {
 

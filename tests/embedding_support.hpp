@@ -13,6 +13,7 @@
 #include "gl/state_guard.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace embedding_test {
 

@@ -23,6 +23,7 @@
 #include "fx/headless_context.hpp"
 #include "fx/image.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace fx_test {
 

@@ -34,9 +34,10 @@
 #include "fx/image.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/segment_integral.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl_fixture.hpp"
+#include "cellfx_names.hpp"
 
 namespace hard_case {
 

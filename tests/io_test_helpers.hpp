@@ -11,6 +11,7 @@
 
 #include "fx/error.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace fx_test {
 

@@ -5,7 +5,8 @@
 #include <random>
 
 #include "fx/cell_mesh.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
+#include "cellfx_names.hpp"
 
 namespace fx_test {
 

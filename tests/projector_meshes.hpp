@@ -7,6 +7,7 @@
 
 #include "fx/cell_mesh.hpp"
 #include "mesh_builders.hpp"
+#include "cellfx_names.hpp"
 
 namespace fx_test {
 

@@ -15,8 +15,9 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace scanline_test {
 

@@ -16,11 +16,12 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
-#include "fx/synthetic_meshes.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "scanline/synthetic_meshes.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "mesh_builders.hpp"
+#include "cellfx_names.hpp"
 
 namespace sort_test {
 

@@ -15,6 +15,7 @@
 
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
+#include "cellfx_names.hpp"
 
 namespace terrain_test {
 

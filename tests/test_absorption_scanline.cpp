@@ -36,13 +36,14 @@
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "fx/tetrahedralize.hpp"
-#include "fx/view_dependent_subdivision.hpp"
+#include "mesh/tetrahedralize.hpp"
+#include "absorption/view_dependent_subdivision.hpp"
 #include "fx/visibility_sort.hpp"
 #include "gl/render_target.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "scanline_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -11,17 +11,18 @@
 #include <glm/geometric.hpp>
 
 #include "absorption_test_support.hpp"
-#include "fx/absorption_classic.hpp"
+#include "absorption/absorption_classic.hpp"
 #include "fx/error.hpp"
-#include "fx/polyhedron_projector.hpp"
-#include "fx/projected_subdivision.hpp"
+#include "projector/polyhedron_projector.hpp"
+#include "absorption/projected_subdivision.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/segment_integral.hpp"
-#include "fx/view_dependent_subdivision.hpp"
+#include "absorption/view_dependent_subdivision.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "projector_meshes.hpp"
 #include "scanline_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

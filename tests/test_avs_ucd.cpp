@@ -11,6 +11,7 @@
 #include "fx/mesh_validation.hpp"
 #include "io_test_helpers.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using Catch::Matchers::Contains;
 

@@ -19,8 +19,9 @@
 
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -17,6 +17,7 @@
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 TEST_CASE("camera spec parses every key and rejects bad ones", "[camera]") {
     const fx::Camera cam = fx::Camera::parse("eye=1,2,3,target=0,0,0,up=0,0,1,fov=30,near=0.5,far=100");

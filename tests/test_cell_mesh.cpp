@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/cell_mesh.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "embedding_support.hpp"
+#include "cellfx_names.hpp"
 
 using namespace embedding_test;
 

@@ -23,6 +23,7 @@
 #include "terrain_test_support.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using effects_test::look;
 

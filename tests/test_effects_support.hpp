@@ -17,6 +17,7 @@
 #include "fx/scanline_renderer.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl_fixture.hpp"
+#include "cellfx_names.hpp"
 
 namespace effects_test {
 

@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "embedding_support.hpp"
+#include "cellfx_names.hpp"
 
 using effects_test::look;
 using namespace embedding_test;

@@ -13,6 +13,7 @@
 #include "glfw_test_window.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 TEST_CASE("cellfx::Module draws into a GLFW window's frame and leaves the game's GL state as it was", "[window]") {
     constexpr int kWidth = 96, kHeight = 72;

@@ -27,11 +27,12 @@
 
 #include "cellfx/cellfx.hpp"
 #include "fx/cell_renderer.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -15,6 +15,7 @@
 #include "fuzz/fuzz_checks.hpp"
 #include "io_test_helpers.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;

@@ -21,6 +21,7 @@
 #include "gl/state_guard.hpp"
 #include "gl_fixture.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using Catch::Matchers::Contains;
 

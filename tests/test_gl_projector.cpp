@@ -11,6 +11,7 @@
 #include "mesh_builders.hpp"
 #include "projector/gl_interface.hpp"
 #include "projector_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "embedding_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -16,8 +16,9 @@
 #include <map>
 
 #include "fx/mesh_validation.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "hard_case_support.hpp"
+#include "cellfx_names.hpp"
 
 using hard_case::LinearBox;
 using hard_case::Path;

@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "hard_case_support.hpp"
+#include "cellfx_names.hpp"
 
 using hard_case::LinearBox;
 using hard_case::Path;

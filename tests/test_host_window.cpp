@@ -19,6 +19,7 @@
 #include "gl_fixture.hpp"
 #include "glfw_test_window.hpp"
 #include "mesh_builders.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

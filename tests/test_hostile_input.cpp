@@ -34,6 +34,7 @@
 #include "process_runner.hpp"
 #include "terrain/scene.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 
@@ -68,7 +69,7 @@ std::string write_scene(const std::string& name, std::string text) {
     return write(name, text);
 }
 
-RunResult cellfx(std::vector<std::string> args, const RunLimits& limits = kCpu) {
+RunResult run_cellfx(std::vector<std::string> args, const RunLimits& limits = kCpu) {
     args.insert(args.begin(), CELLFX_CLI);
     return fx_test::run_program(args, limits);
 }
@@ -176,13 +177,13 @@ TEST_CASE("hostile input: crashes (thousands of effects, a tetrahedron copied 20
             list += std::string(i ? "," : "") + "{\"type\": \"laser_cone\", \"name\": \"l" + std::to_string(i) +
                     "\", \"transfer_function\": \"TF\"}";
         const std::string scene = effects_scene("lasers.json", list);
-        require_refused(cellfx({"render", scene, "--out", file("lasers.png")}), {"lasers.json", "effects", "3,000", "effects limit of 256"});
+        require_refused(run_cellfx({"render", scene, "--out", file("lasers.png")}), {"lasers.json", "effects", "3,000", "effects limit of 256"});
     }
     SECTION("200,000 copies of one tetrahedron: the reference names the duplicates; info lists them") {
         const std::string mesh = write_vtk("tet_200k.vtk", copies_of_a_tet(200000));
-        require_refused(cellfx(scanline(mesh, file("tet_200k.pfm"))),
+        require_refused(run_cellfx(scanline(mesh, file("tet_200k.pfm"))),
                         {"tet_200k.vtk", "cell 1 has the same points as cell 0", "more pairs"});
-        const RunResult info = cellfx({"info", mesh});
+        const RunResult info = run_cellfx({"info", mesh});
         require_accepted(info);
         CHECK_THAT(info.output, Catch::Contains("duplicate") && Catch::Contains("cell 1: cell 1 has the same points as cell 0"));
     }
@@ -192,17 +193,17 @@ TEST_CASE("hostile input: overlapping cells within a grid are refused by the ref
     for (const std::size_t copies : {2u, 3u, 10u}) {
         DYNAMIC_SECTION(copies << " identical tetrahedra") {
             const std::string mesh = write_vtk("tets_" + std::to_string(copies) + ".vtk", copies_of_a_tet(copies));
-            require_refused(cellfx(scanline(mesh, file("tets.pfm"))), {mesh, "cell 1 has the same points as cell 0"});
+            require_refused(run_cellfx(scanline(mesh, file("tets.pfm"))), {mesh, "cell 1 has the same points as cell 0"});
         }
     }
     SECTION("two hexahedra overlapping without sharing points: found along the rays, cells and pixel named") {
         const std::string mesh = write_vtk("hexes_overlap.vtk", overlapping_hexes(0.5));
-        const RunResult r = cellfx(scanline(mesh, file("hexes_overlap.pfm")));
+        const RunResult r = run_cellfx(scanline(mesh, file("hexes_overlap.pfm")));
         require_refused(r, {"hexes_overlap.vtk", "block 0", "overlap", "cell 0", "cell 1", "pixel (", "inside both at once"});
     }
     SECTION("touching hexahedra with their own points (a seam, not an overlap) render") {
         const std::string mesh = write_vtk("hexes_touching.vtk", overlapping_hexes(1.0));
-        require_accepted(cellfx(scanline(mesh, file("hexes_touching.pfm"))));
+        require_accepted(run_cellfx(scanline(mesh, file("hexes_touching.pfm"))));
         CHECK(mean_value(file("hexes_touching.pfm")) > 0.0);
     }
     SECTION("overlapping grids (separate blocks) add their media: two coincident blocks = one at twice the density") {
@@ -222,11 +223,11 @@ TEST_CASE("hostile input: overlapping cells within a grid are refused by the ref
         const std::vector<std::string> view = {"--camera", "eye=3,-2,2.5,target=0.5,0.5,0.5,up=0,0,1,fov=40", "--tf", tf};
         auto args = scanline(file("two.xyz"), file("two.pfm"), view);
         args.insert(args.begin() + 2, file("two.q"));
-        require_accepted(cellfx(args));
+        require_accepted(run_cellfx(args));
         args = scanline(file("one.xyz"), file("one.pfm"), view);
         args.insert(args.begin() + 2, file("one.q"));
         args.insert(args.end(), {"--density", "2"});
-        require_accepted(cellfx(args));
+        require_accepted(run_cellfx(args));
         CHECK(mean_value(file("one.pfm")) > 0.01);
         CHECK(max_difference(file("two.pfm"), file("one.pfm")) < 1e-5); // float image, one medium at 2σ
     }
@@ -241,12 +242,12 @@ TEST_CASE("hostile input: inverted cells, one policy for every reader", "[hostil
     }
     const std::string bad = write_vtk("box_inverted.vtk", box);
     SECTION("VTK: info reports the flipped cells; the scan-line picture is the oriented mesh's") {
-        const RunResult info = cellfx({"info", bad});
+        const RunResult info = run_cellfx({"info", bad});
         require_accepted(info);
         CHECK_THAT(info.output, Catch::Contains("orientation: flipped 8 of 8 cells"));
         CHECK_THAT(info.output, Catch::Contains("validation: no problems"));
-        require_accepted(cellfx(scanline(good, file("box.pfm"))));
-        require_accepted(cellfx(scanline(bad, file("box_inverted.pfm"))));
+        require_accepted(run_cellfx(scanline(good, file("box.pfm"))));
+        require_accepted(run_cellfx(scanline(bad, file("box_inverted.pfm"))));
         CHECK(mean_value(file("box.pfm")) > 0.01);
         CHECK(max_difference(file("box.pfm"), file("box_inverted.pfm")) == 0.0);
     }
@@ -262,15 +263,15 @@ TEST_CASE("hostile input: inverted cells, one policy for every reader", "[hostil
         const fx::Plot3dFormat f;
         fx::write_plot3d({right}, f, file("right.xyz"));
         fx::write_plot3d({left}, f, file("left.xyz"));
-        const RunResult info = cellfx({"info", file("left.xyz")});
+        const RunResult info = run_cellfx({"info", file("left.xyz")});
         require_accepted(info);
         CHECK_THAT(info.output, Catch::Contains("orientation: flipped 8 of 8 cells"));
         // PLOT3D without a q file has no field: the cells themselves are what is checked here.
         CHECK_THAT(info.output, Catch::Contains("validation: no problems"));
     }
     SECTION("a GPU path draws the inverted file like the oriented one") {
-        require_accepted(cellfx({"render", good, "--path", "pcp-exact", "--size", "48x40", "--out", file("box_gl.pfm")}, kGl));
-        require_accepted(cellfx({"render", bad, "--path", "pcp-exact", "--size", "48x40", "--out", file("box_gl_inv.pfm")}, kGl));
+        require_accepted(run_cellfx({"render", good, "--path", "pcp-exact", "--size", "48x40", "--out", file("box_gl.pfm")}, kGl));
+        require_accepted(run_cellfx({"render", bad, "--path", "pcp-exact", "--size", "48x40", "--out", file("box_gl_inv.pfm")}, kGl));
         CHECK(mean_value(file("box_gl.pfm")) > 0.0);
         CHECK(max_difference(file("box_gl.pfm"), file("box_gl_inv.pfm")) == 0.0);
     }
@@ -292,7 +293,7 @@ TEST_CASE("hostile input: scale, a unit cube at 10^K with extinction at 10^-K gi
         fx::write_vtk_legacy(cube(std::pow(10.0, k)), file(name + ".vtk"), true);
         char density[32];
         std::snprintf(density, sizeof density, "%.17g", std::pow(10.0, -k));
-        return cellfx(scanline(file(name + ".vtk"), file(name + ".pfm"), {"--density", density}));
+        return run_cellfx(scanline(file(name + ".vtk"), file(name + ".pfm"), {"--density", density}));
     };
     require_accepted(render(0));
     CHECK(mean_value(file("cube_e0.pfm")) > 0.01);
@@ -315,15 +316,15 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         auto scene_with_camera = [&](const std::string& name, const std::string& camera) {
             return effects_scene(name, campfire(""), camera);
         };
-        require_refused(cellfx({"render", scene_with_camera("up_parallel.json", R"({"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 0, 1]})"),
+        require_refused(run_cellfx({"render", scene_with_camera("up_parallel.json", R"({"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 0, 1]})"),
                                 "--out", file("x.png")}),
                         {"up_parallel.json", "camera", "parallel to the view direction"});
-        require_refused(cellfx({"render", scene_with_camera("up_zero.json", R"({"eye": [3, 0, 1], "target": [0, 0, 0], "up": [0, 0, 0]})"),
+        require_refused(run_cellfx({"render", scene_with_camera("up_zero.json", R"({"eye": [3, 0, 1], "target": [0, 0, 0], "up": [0, 0, 0]})"),
                                 "--out", file("x.png")}),
                         {"up_zero.json", "camera", "up is zero"});
         const std::string view = "eye=3,-2,2.5,target=0.5,0.5,0.5,fov=40,up=0,0,";
-        require_accepted(cellfx(scanline(mesh, file("up_1.pfm"), {"--camera", view + "1"})));
-        require_accepted(cellfx(scanline(mesh, file("up_tiny.pfm"), {"--camera", view + "1e-300"})));
+        require_accepted(run_cellfx(scanline(mesh, file("up_1.pfm"), {"--camera", view + "1"})));
+        require_accepted(run_cellfx(scanline(mesh, file("up_tiny.pfm"), {"--camera", view + "1e-300"})));
         CHECK(mean_value(file("up_1.pfm")) > 0.001);
         CHECK(max_difference(file("up_1.pfm"), file("up_tiny.pfm")) == 0.0);
     }
@@ -332,23 +333,23 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
                                                 R"({"eye": [3, -4, 2], "target": [0, 0, 0.5], "up": [0, 0, 1]},
  "camera_path": {"keys": [{"time": 0, "eye": [3, -4, 2], "target": [0, 0, 0.5]},
                           {"time": 2, "eye": [0, 0, 9], "target": [0, 0, 0.5]}]})");
-        require_refused(cellfx({"render", scene, "--out", file("x.png")}), {"path_above.json", "camera_path.keys[1]", "parallel"});
+        require_refused(run_cellfx({"render", scene, "--out", file("x.png")}), {"path_above.json", "camera_path.keys[1]", "parallel"});
     }
     SECTION("--near beyond the far plane, ortho=-5, backgrounds outside [0, 1]") {
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,far=10", "--near", "50"})),
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,far=10", "--near", "50"})),
                         {"--near 50", "not in front of far 10"});
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,ortho=-5"})), {"ortho=-5", "positive"});
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--background", "5,5,5"})), {"--background", "[0, 1]"});
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--background", "-1,-1,-1"})), {"--background", "[0, 1]"});
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,ortho=-5"})), {"ortho=-5", "positive"});
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--background", "5,5,5"})), {"--background", "[0, 1]"});
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--background", "-1,-1,-1"})), {"--background", "[0, 1]"});
     }
     SECTION("extinction: 1e300 refused, 1e31 (inside the bound) stays finite on every CPU model") {
         const std::string huge = write("sigma_huge.json", R"({"points": [[0, 1, 0.5, 0.2, 1], [1, 1, 0.5, 0.2, 1e300]]})");
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--tf", huge})), {"sigma_huge.json", "points[1]", "sigma", "1e+32"});
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--tf", huge})), {"sigma_huge.json", "points[1]", "sigma", "1e+32"});
         const std::string big = write("sigma_big.json", R"({"points": [[0, 1, 0.5, 0.2, 1], [1, 1, 0.5, 0.2, 1e31]], "normalized": true})");
         for (const char* model : {"absorption", "emission", "max"}) {
             INFO(model);
             const std::string out = file(std::string("sigma_big_") + model + ".pfm");
-            require_accepted(cellfx(scanline(mesh, out, {"--tf", big, "--model", model})));
+            require_accepted(run_cellfx(scanline(mesh, out, {"--tf", big, "--model", model})));
             CHECK(all_finite(out));
             CHECK(mean_value(out) > 0.0);
         }
@@ -356,7 +357,7 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         fx::CellMesh huge_box = fx_test::hex_box(1, 1, 1);
         for (glm::dvec3& p : huge_box.points) p *= 1e17;
         const std::string out = file("sigma_big_far.pfm");
-        require_accepted(cellfx(scanline(write_vtk("huge_box.vtk", huge_box), out, {"--tf", big, "--model", "emission"})));
+        require_accepted(run_cellfx(scanline(write_vtk("huge_box.vtk", huge_box), out, {"--tf", big, "--model", "emission"})));
         CHECK(all_finite(out));
     }
     SECTION("a bow-tie hexahedron and a mesh of flat cells: refused by every path, info says why") {
@@ -364,28 +365,28 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         std::uint32_t* h = bow.cell_vertices(0);
         std::swap(h[4], h[6]); // the top face turned half a turn: two halves of opposite sign
         const std::string bowtie = write_vtk("bowtie.vtk", bow);
-        require_refused(cellfx(scanline(bowtie, file("x.pfm"))), {"bowtie.vtk", "cell 0", "folds over itself"});
-        require_refused(cellfx({"render", bowtie, "--path", "pcp", "--out", file("x.png")}), {"bowtie.vtk", "folds over itself"});
-        const RunResult info = cellfx({"info", bowtie});
+        require_refused(run_cellfx(scanline(bowtie, file("x.pfm"))), {"bowtie.vtk", "cell 0", "folds over itself"});
+        require_refused(run_cellfx({"render", bowtie, "--path", "pcp", "--out", file("x.png")}), {"bowtie.vtk", "folds over itself"});
+        const RunResult info = run_cellfx({"info", bowtie});
         require_accepted(info);
         CHECK_THAT(info.output, Catch::Contains("twisted"));
         fx::CellMesh flat = fx_test::hex_box(2, 1, 1);
         for (glm::dvec3& p : flat.points) p.z = 0.0;
-        require_refused(cellfx(scanline(write_vtk("flat.vtk", flat), file("x.pfm"))), {"flat.vtk", "all 2 cells have zero volume"});
+        require_refused(run_cellfx(scanline(write_vtk("flat.vtk", flat), file("x.pfm"))), {"flat.vtk", "all 2 cells have zero volume"});
     }
     SECTION("effect and terrain parameters of 1e300, named by their key") {
-        require_refused(cellfx({"render", effects_scene("fire_huge.json", campfire(", \"base_radius\": 1e300")), "--out", file("x.png")}),
+        require_refused(run_cellfx({"render", effects_scene("fire_huge.json", campfire(", \"base_radius\": 1e300")), "--out", file("x.png")}),
                         {"fire_huge.json", "effects[0].base_radius", "beyond ±1e18"});
-        require_refused(cellfx({"render",
+        require_refused(run_cellfx({"render",
                                 effects_scene("light_huge.json", R"({"type": "search_light", "transfer_function": "TF", "range": 1e300})"),
                                 "--out", file("x.png")}),
                         {"light_huge.json", "effects[0].range", "beyond ±1e18"});
         const std::string terrain = write("terrain_huge.json", R"({"terrain": {"procedural": {"size": 65, "spacing": 1e300,
             "noise": {"amplitude": 1}}}, "camera": {"eye": [0, -10, 5], "target": [0, 0, 0]}})");
-        require_refused(cellfx({"render", terrain, "--out", file("x.png")}), {"terrain_huge.json", "terrain.procedural.spacing", "1e+300"});
+        require_refused(run_cellfx({"render", terrain, "--out", file("x.png")}), {"terrain_huge.json", "terrain.procedural.spacing", "1e+300"});
         const std::string spread = write("terrain_wide.json", R"({"terrain": {"procedural": {"size": 4097, "spacing": 1e15,
             "noise": {"amplitude": 1}}}, "camera": {"eye": [0, -10, 5], "target": [0, 0, 0]}})");
-        require_refused(cellfx({"render", spread, "--out", file("x.png")}), {"terrain_wide.json", "terrain", "grid reaches"});
+        require_refused(run_cellfx({"render", spread, "--out", file("x.png")}), {"terrain_wide.json", "terrain", "grid reaches"});
     }
 }
 
@@ -436,12 +437,12 @@ TEST_CASE("hostile input: what used to hang", "[hostile]") {
             return args;
         };
         const std::string mesh = write_vtk("pipe_box.vtk", fx_test::hex_box(1, 1, 1));
-        require_refused(cellfx(with_wait(scanline(fifo, file("x.pfm")))), {"pipe.vtk", "nothing arrived from this pipe for 1 s", "input-wait"});
-        require_refused(cellfx(with_wait(scanline(mesh, file("x.pfm"), {"--tf", fifo}))), {"pipe.vtk", "nothing arrived"});
+        require_refused(run_cellfx(with_wait(scanline(fifo, file("x.pfm")))), {"pipe.vtk", "nothing arrived from this pipe for 1 s", "input-wait"});
+        require_refused(run_cellfx(with_wait(scanline(mesh, file("x.pfm"), {"--tf", fifo}))), {"pipe.vtk", "nothing arrived"});
         const std::string scene_fifo = file("pipe.json");
         std::filesystem::remove(scene_fifo);
         REQUIRE(mkfifo(scene_fifo.c_str(), 0600) == 0);
-        require_refused(cellfx(with_wait({"render", scene_fifo, "--out", file("x.png")})), {"pipe.json", "nothing arrived"});
+        require_refused(run_cellfx(with_wait({"render", scene_fifo, "--out", file("x.png")})), {"pipe.json", "nothing arrived"});
     }
     SECTION("a pipe with a writer is read (process substitution works)") {
         const std::string fifo = file("pipe_fed.vtk");
@@ -460,12 +461,12 @@ TEST_CASE("hostile input: what used to hang", "[hostile]") {
             }
             if (fd >= 0) ::close(fd);
         });
-        const RunResult r = cellfx(scanline(fifo, file("pipe_fed.pfm")));
+        const RunResult r = run_cellfx(scanline(fifo, file("pipe_fed.pfm")));
         const int unblock = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK); // in case cellfx never opened it
         writer.join();
         if (unblock >= 0) ::close(unblock);
         require_accepted(r);
-        require_accepted(cellfx(scanline(mesh, file("pipe_source.pfm"))));
+        require_accepted(run_cellfx(scanline(mesh, file("pipe_source.pfm"))));
         CHECK(max_difference(file("pipe_fed.pfm"), file("pipe_source.pfm")) == 0.0);
     }
 }
@@ -473,39 +474,39 @@ TEST_CASE("hostile input: what used to hang", "[hostile]") {
 TEST_CASE("hostile input: unbounded memory — devices, effect resolutions, image sizes", "[hostile]") {
     const std::string mesh = write_vtk("box_memory.vtk", fx_test::hex_box(1, 1, 1));
     SECTION("/dev/zero and /dev/urandom as inputs: refused from their first bytes, or at the byte budget") {
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--tf", "/dev/zero"})), {"/dev/zero", "NUL", "not UTF-8 JSON"});
-        require_refused(cellfx({"render", "/dev/zero", "--out", file("x.png")}), {"/dev/zero", "byte 0", "four zero bytes"});
-        require_refused(cellfx({"render", "/dev/urandom", "--out", file("x.png"), "--limit", "file-bytes=1000000"}),
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--tf", "/dev/zero"})), {"/dev/zero", "NUL", "not UTF-8 JSON"});
+        require_refused(run_cellfx({"render", "/dev/zero", "--out", file("x.png")}), {"/dev/zero", "byte 0", "four zero bytes"});
+        require_refused(run_cellfx({"render", "/dev/urandom", "--out", file("x.png"), "--limit", "file-bytes=1000000"}),
                         {"/dev/urandom", "file-bytes limit of 1,000,000", "not a regular file"});
         const std::string zero_json = file("zero.json");
         std::filesystem::remove(zero_json);
         std::filesystem::create_symlink("/dev/zero", zero_json);
-        require_refused(cellfx({"render", zero_json, "--out", file("x.png")}), {"zero.json", "NUL"});
-        require_refused(cellfx({"render", effects_scene("tf_zero.json", R"({"type": "laser_cone", "transfer_function": "/dev/zero"})"),
+        require_refused(run_cellfx({"render", zero_json, "--out", file("x.png")}), {"zero.json", "NUL"});
+        require_refused(run_cellfx({"render", effects_scene("tf_zero.json", R"({"type": "laser_cone", "transfer_function": "/dev/zero"})"),
                                 "--out", file("x.png")}),
                         {"tf_zero.json", "effects[0].transfer_function", "/dev/zero", "NUL"});
         const std::string hm = write("heightmap_zero.json", R"({"terrain": {"height_map": "/dev/zero"},
             "camera": {"eye": [0, -10, 5], "target": [0, 0, 0]}})");
-        require_refused(cellfx({"render", hm, "--out", file("x.png")}), {"heightmap_zero.json", "terrain.height_map", "not a PNG file"});
+        require_refused(run_cellfx({"render", hm, "--out", file("x.png")}), {"heightmap_zero.json", "terrain.height_map", "not a PNG file"});
     }
     SECTION("effect resolutions within their documented ranges but over the effect-cells budget") {
-        require_refused(cellfx({"render", effects_scene("fire_256.json", campfire(", \"cells_across\": 256, \"cells_up\": 256")),
+        require_refused(run_cellfx({"render", effects_scene("fire_256.json", campfire(", \"cells_across\": 256, \"cells_up\": 256")),
                                 "--out", file("x.png")}),
                         {"fire_256.json", "effects[0]", "16,777,216 cells", "effect-cells limit"});
-        require_refused(cellfx({"render",
+        require_refused(run_cellfx({"render",
                                 effects_scene("light_big.json", R"({"type": "search_light", "transfer_function": "TF",
                                     "segments": 256, "rings": 64, "slices": 1024})"),
                                 "--out", file("x.png")}),
                         {"light_big.json", "effects[0]", "effect-cells limit"});
     }
     SECTION("image sizes: the image-pixels budget, then the scan-line frame budget") {
-        require_refused(cellfx({"render", mesh, "--size", "16384x16384", "--out", file("x.pfm")}), {"--size 16384x16384", "image-pixels limit"});
-        require_refused(cellfx({"render", mesh, "--path", "pcp", "--size", "16384x16384", "--out", file("x.png")}), {"image-pixels limit"});
-        require_refused(cellfx({"render", mesh, "--size", "16384x16384", "--out", file("x.pfm"), "--limit", "image-pixels=300000000"}),
+        require_refused(run_cellfx({"render", mesh, "--size", "16384x16384", "--out", file("x.pfm")}), {"--size 16384x16384", "image-pixels limit"});
+        require_refused(run_cellfx({"render", mesh, "--path", "pcp", "--size", "16384x16384", "--out", file("x.png")}), {"image-pixels limit"});
+        require_refused(run_cellfx({"render", mesh, "--size", "16384x16384", "--out", file("x.pfm"), "--limit", "image-pixels=300000000"}),
                         {"box_memory.vtk", "16384x16384 frame", "frame-bytes limit"});
         const std::string scene = write_scene("scene_huge.json", R"({"effects": [{"type": "laser_cone", "transfer_function": "TF"}],
             "camera": {"eye": [3, -4, 2], "target": [0, 0, 0]}, "render": {"width": 16384, "height": 16384}})");
-        require_refused(cellfx({"render", scene, "--out", file("x.png")}), {"scene_huge.json", "render", "image-pixels limit"});
+        require_refused(run_cellfx({"render", scene, "--out", file("x.png")}), {"scene_huge.json", "render", "image-pixels limit"});
     }
     SECTION("scan-line workers out of memory: an error naming the budget or the memory, never an abort") {
         // 4,000 layers seen face on: 2,000 pixels a line × 4,001 crossings = 8 M fragments
@@ -519,15 +520,15 @@ TEST_CASE("hostile input: unbounded memory — devices, effect resolutions, imag
             a.insert(a.end(), extra.begin(), extra.end());
             return a;
         };
-        require_refused(cellfx(with({"--limit", "frame-bytes=100000000"})), {"deep.vtk", "scan line", "frame-bytes limit"});
-        require_refused(cellfx(with({"--limit", "frame-bytes=100000000000"}), {std::uint64_t(400) << 20, 60.0}),
+        require_refused(run_cellfx(with({"--limit", "frame-bytes=100000000"})), {"deep.vtk", "scan line", "frame-bytes limit"});
+        require_refused(run_cellfx(with({"--limit", "frame-bytes=100000000000"}), {std::uint64_t(400) << 20, 60.0}),
                         {"deep.vtk", "out of memory"});
     }
     SECTION("counts: a header claiming 40 million points in a small file, and a file over a lowered budget") {
         const std::string claim = write("claims_points.vtk", "# vtk DataFile Version 3.0\nx\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                                                              "POINTS 40000000 float\n0 0 0\n");
-        require_refused(cellfx({"info", claim}), {"claims_points.vtk", "truncated POINTS", "120000000 values"});
-        require_refused(cellfx({"info", mesh, "--limit", "mesh-points=7"}),
+        require_refused(run_cellfx({"info", claim}), {"claims_points.vtk", "truncated POINTS", "120000000 values"});
+        require_refused(run_cellfx({"info", mesh, "--limit", "mesh-points=7"}),
                         {"box_memory.vtk", "line 5", "POINTS needs 8 points", "mesh-points limit of 7"});
     }
 }
@@ -537,32 +538,32 @@ TEST_CASE("hostile input: messages that say what to fix", "[hostile]") {
     SECTION("a constant field renders (a normalized function's low end); all-NaN and all-Inf fields are named") {
         tet.scalars = {{"c", std::vector<float>(4, 7.0f)}};
         fx::write_vtk_legacy(tet, file("constant.vtk"), false);
-        require_accepted(cellfx(scanline(file("constant.vtk"), file("constant.pfm"), {"--camera", "eye=2,1.5,1.2,target=0.25,0.25,0.25"})));
+        require_accepted(run_cellfx(scanline(file("constant.vtk"), file("constant.pfm"), {"--camera", "eye=2,1.5,1.2,target=0.25,0.25,0.25"})));
         // The same as the function's first point everywhere: a constant function at s = 7.
         const std::string flat_tf = write("constant_tf.json", R"({"points": [[7, 0.1, 0.25, 0.9, 0.02]]})");
-        require_accepted(cellfx(scanline(file("constant.vtk"), file("constant_ref.pfm"),
+        require_accepted(run_cellfx(scanline(file("constant.vtk"), file("constant_ref.pfm"),
                                          {"--camera", "eye=2,1.5,1.2,target=0.25,0.25,0.25", "--tf", flat_tf})));
         CHECK(mean_value(file("constant.pfm")) > 0.0);
         CHECK(max_difference(file("constant.pfm"), file("constant_ref.pfm")) == 0.0);
         for (const float bad : {std::nanf(""), INFINITY}) {
             tet.scalars = {{"p", std::vector<float>(4, bad)}};
             fx::write_vtk_legacy(tet, file("bad_field.vtk"), true);
-            require_refused(cellfx(scanline(file("bad_field.vtk"), file("x.pfm"))),
+            require_refused(run_cellfx(scanline(file("bad_field.vtk"), file("x.pfm"))),
                             {"bad_field.vtk", "field 'p' is", "at point 0", "and 3 more points"});
         }
     }
     SECTION("coordinates of 1e300 are named as such, not blamed on the camera") {
         fx::CellMesh far = one_tet();
         for (glm::dvec3& p : far.points) p *= 1e300;
-        require_refused(cellfx(scanline(write_vtk("far.vtk", far), file("x.pfm"))), {"far.vtk", "point 1", "beyond ±1e+18"});
+        require_refused(run_cellfx(scanline(write_vtk("far.vtk", far), file("x.pfm"))), {"far.vtk", "point 1", "beyond ±1e+18"});
     }
     SECTION("files that used to fall through to the PLOT3D reader") {
         const std::string ucd = write("negative.inp", "# a UCD file\n-4 1 0 0 0\n");
-        require_refused(cellfx({"info", ucd}), {"negative.inp", "line 2", "number of nodes is negative"});
+        require_refused(run_cellfx({"info", ucd}), {"negative.inp", "line 2", "number of nodes is negative"});
         const std::string json_mesh = write("scene.txt", "{\"effects\": []}\n");
-        require_refused(cellfx({"info", json_mesh}), {"scene.txt", "it is text", "looks like JSON"});
+        require_refused(run_cellfx({"info", json_mesh}), {"scene.txt", "it is text", "looks like JSON"});
         const std::string upper = write_scene("SCENE.JSON", R"({"effects": [{"type": "laser_cone", "transfer_function": "TF"}]})");
-        require_refused(cellfx({"render", upper, "--out", file("x.png")}), {"SCENE.JSON", "camera", "is required"});
+        require_refused(run_cellfx({"render", upper, "--out", file("x.png")}), {"SCENE.JSON", "camera", "is required"});
     }
     SECTION("truncated PLOT3D and a lying record marker: what the header says and what the file holds") {
         fx::Plot3dBlock b;
@@ -574,34 +575,34 @@ TEST_CASE("hostile input: messages that say what to fix", "[hostile]") {
         std::ifstream in(file("grid.xyz"), std::ios::binary);
         std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         write("truncated.xyz", bytes.substr(0, 100));
-        require_refused(cellfx({"info", file("truncated.xyz")}), {"truncated.xyz", "4 x 3 x 2", "truncated"});
+        require_refused(run_cellfx({"info", file("truncated.xyz")}), {"truncated.xyz", "4 x 3 x 2", "truncated"});
         std::string lying = bytes;
         lying[23] = char(lying[23] + 16); // the coordinates' opening marker (big-endian, low byte)
         write("lying.xyz", lying);
-        require_refused(cellfx({"info", file("lying.xyz")}), {"lying.xyz", "record marker at byte 20"});
+        require_refused(run_cellfx({"info", file("lying.xyz")}), {"lying.xyz", "record marker at byte 20"});
     }
     SECTION("vertical_scale and an aurora ceiling of 1e300, named by key") {
         const std::string st_helens = fx_test::source_path("content/terrain/st_helens_257.png");
         const std::string scale = write("vertical.json", "{\"terrain\": {\"height_map\": \"" + st_helens +
                                                              "\", \"vertical_scale\": 1e300}, \"camera\": {\"eye\": [0, -10, 5], \"target\": [0, 0, 0]}}");
-        require_refused(cellfx({"render", scale, "--out", file("x.png")}), {"vertical.json", "terrain.vertical_scale", "1e+300"});
+        require_refused(run_cellfx({"render", scale, "--out", file("x.png")}), {"vertical.json", "terrain.vertical_scale", "1e+300"});
         const std::string scale15 = write("vertical15.json", "{\"terrain\": {\"height_map\": \"" + st_helens +
                                                                  "\", \"vertical_scale\": 1e15}, \"camera\": {\"eye\": [0, -10, 5], \"target\": [0, 0, 0]}}");
-        require_refused(cellfx({"render", scale15, "--out", file("x.png")}), {"vertical15.json", "terrain.height_map", "heights reach", "vertical_scale"});
+        require_refused(run_cellfx({"render", scale15, "--out", file("x.png")}), {"vertical15.json", "terrain.height_map", "heights reach", "vertical_scale"});
         const std::string aurora = write_scene("ceiling.json", R"({"aurora": {"ceiling": 1e300, "spacing": 10, "transfer_function": "TF"},
             "effects": [], "camera": {"eye": [0, -10, 5], "target": [0, 0, 0]}})");
-        require_refused(cellfx({"render", aurora, "--out", file("x.png")}), {"ceiling.json", "aurora.ceiling", "1e+300"});
+        require_refused(run_cellfx({"render", aurora, "--out", file("x.png")}), {"ceiling.json", "aurora.ceiling", "1e+300"});
     }
     SECTION("a folder named like a scene, UTF-16 text, an empty file, a missing file, an unknown limit") {
         std::filesystem::create_directories(file("folder.json"));
-        require_refused(cellfx({"render", file("folder.json"), "--out", file("x.png")}), {"folder.json", "is a folder, not a scene file"});
+        require_refused(run_cellfx({"render", file("folder.json"), "--out", file("x.png")}), {"folder.json", "is a folder, not a scene file"});
         const std::string utf16 = write("utf16.json", std::string("\xFF\xFE{\0}\0", 6));
-        require_refused(cellfx({"render", utf16, "--out", file("x.png")}), {"utf16.json", "UTF-16"});
+        require_refused(run_cellfx({"render", utf16, "--out", file("x.png")}), {"utf16.json", "UTF-16"});
         const std::string mesh = write_vtk("box_messages.vtk", fx_test::hex_box(1, 1, 1));
-        require_refused(cellfx(scanline(mesh, file("x.pfm"), {"--tf", utf16})), {"utf16.json", "UTF-16"});
-        require_refused(cellfx({"info", write("empty.vtk", "")}), {"empty.vtk", "empty file"});
-        require_refused(cellfx({"info", file("no_such_file.vtk")}), {"no_such_file.vtk", "cannot open the mesh file"});
-        require_refused(cellfx({"info", mesh, "--limit", "cells=5"}), {"unknown limit 'cells'", "mesh-cells"});
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--tf", utf16})), {"utf16.json", "UTF-16"});
+        require_refused(run_cellfx({"info", write("empty.vtk", "")}), {"empty.vtk", "empty file"});
+        require_refused(run_cellfx({"info", file("no_such_file.vtk")}), {"no_such_file.vtk", "cannot open the mesh file"});
+        require_refused(run_cellfx({"info", mesh, "--limit", "cells=5"}), {"unknown limit 'cells'", "mesh-cells"});
     }
 }
 

@@ -1,4 +1,4 @@
-// One medium per scene (fx/medium.hpp, fx/medium_compositor.hpp, terrain's scene renderer):
+// One medium per scene (fx/medium.hpp, medium/medium_compositor.hpp, terrain's scene renderer):
 // an emissive box behind, inside and in front of an absorbing box against the closed form — from
 // the command line as a user renders it, for every path of the emission–absorption model and
 // the scan-line reference — whole frames against the scan-line reference of intersecting grids,
@@ -13,6 +13,7 @@
 #include "fx/headless_context.hpp"
 #include "gl/render_target.hpp"
 #include "gl/state_guard.hpp"
+#include "medium/medium_compositor.hpp"
 #include "fx/image.hpp"
 #include "fx/medium.hpp"
 #include "terrain/scene.hpp"
@@ -20,6 +21,7 @@
 #include "terrain/scene_renderer.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -6,12 +6,13 @@
 
 #include <glm/geometric.hpp>
 
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "mesh_builders.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -20,6 +20,7 @@
 #include "noise/noise_batch.hpp"
 #include "noise/noise_fractal.hpp"
 #include "noise/noise_kernels.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

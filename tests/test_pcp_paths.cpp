@@ -15,6 +15,7 @@
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "projector_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -33,10 +33,11 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "projector_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include "fx/plot3d.hpp"
 #include "io_test_helpers.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using Catch::Matchers::Contains;
 

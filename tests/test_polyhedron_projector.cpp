@@ -8,11 +8,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "fx/error.hpp"
-#include "fx/footprint_batches.hpp"
+#include "projector/footprint_batches.hpp"
 #include "fx/mesh_validation.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "mesh_builders.hpp"
 #include "projector_meshes.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -26,8 +26,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "fx/mesh_validation.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "hard_case_support.hpp"
+#include "cellfx_names.hpp"
 
 using hard_case::Path;
 

@@ -12,6 +12,7 @@
 #include "fx/transfer_function.hpp"
 #include "io/input_file.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

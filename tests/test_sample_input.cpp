@@ -15,6 +15,7 @@
 #include "gl_fixture.hpp"
 #include "sample.hpp"
 #include "sample_gl.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

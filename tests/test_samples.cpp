@@ -22,6 +22,7 @@
 #include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/search_light.hpp"
+#include "cellfx_names.hpp"
 #include "gl_fixture.hpp"
 #include "searchlight/drone.hpp"
 #include "terrain/scene.hpp"

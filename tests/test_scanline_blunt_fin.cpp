@@ -11,6 +11,7 @@
 #include "fx/transfer_function.hpp"
 #include "scanline_test_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using namespace scanline_test;
 

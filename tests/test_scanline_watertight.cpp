@@ -8,9 +8,10 @@
 
 #include "fx/scanline_renderer.hpp"
 #include "scanline/scanline_fragments.hpp"
-#include "fx/synthetic_meshes.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "scanline/synthetic_meshes.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "scanline_test_support.hpp"
+#include "cellfx_names.hpp"
 
 using namespace scanline_test;
 

@@ -17,6 +17,7 @@
 #include "terrain/scene_renderer.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using effects_test::look;
 

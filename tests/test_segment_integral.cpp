@@ -16,6 +16,7 @@
 #include "fx/segment_integral.hpp"
 #include "fx/transfer_function.hpp"
 #include "transfer/special_functions.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -42,6 +42,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/surface_renderer.hpp"
 #include "terrain_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

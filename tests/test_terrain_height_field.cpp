@@ -12,6 +12,7 @@
 #include "fx/error.hpp"
 #include "terrain/height_field.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

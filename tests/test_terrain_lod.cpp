@@ -10,6 +10,7 @@
 #include "fx/error.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -13,6 +13,7 @@
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
 #include "terrain_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

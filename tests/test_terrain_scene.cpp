@@ -12,6 +12,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -14,6 +14,7 @@
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "scanline_test_support.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include "fx/segment_integral.hpp"
 #include "fx/transfer_function.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

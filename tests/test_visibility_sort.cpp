@@ -7,13 +7,14 @@
 #include <thread>
 
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/visibility_sort.hpp"
 #include "mesh_builders.hpp"
 #include "sort_test_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

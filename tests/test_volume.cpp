@@ -16,6 +16,7 @@
 #include "terrain/scene.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using effects_test::look;
 

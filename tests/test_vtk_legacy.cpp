@@ -8,6 +8,7 @@
 #include "fx/vtk_legacy.hpp"
 #include "io_test_helpers.hpp"
 #include "test_paths.hpp"
+#include "cellfx_names.hpp"
 
 using Catch::Matchers::Contains;
 

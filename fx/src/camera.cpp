@@ -15,7 +15,7 @@
 #include "fx/effect.hpp" // rigid_part
 #include "fx/error.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -228,4 +228,4 @@ Camera Camera::framing(const glm::dvec3& lo, const glm::dvec3& hi, double fov_y_
     return cam;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -6,7 +6,7 @@
 
 #include <glm/common.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Face tables in VTK's vertex order, every face wound counter-clockwise seen from outside.
@@ -154,4 +154,4 @@ ScalarRange scalar_range(const ScalarField& field) {
     return r;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -14,7 +14,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 Image::Image(int w, int h, glm::vec4 fill)
     : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), fill) {}
@@ -97,4 +97,4 @@ void write_image(const Image& image, const std::string& path) {
     else throw Error(path + ": unknown image type (use .png or .pfm)");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

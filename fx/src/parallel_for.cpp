@@ -8,7 +8,7 @@
 
 #include "fx/parallel_for.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Workers wait for a job; a job hands out indices from an atomic counter to the workers and
@@ -118,4 +118,4 @@ ParallelFor default_parallel_for() {
 
 std::size_t default_parallel_for_threads() { return pool().threads(); }
 
-} // namespace fx
+} // namespace cellfx::fx

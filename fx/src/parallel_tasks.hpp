@@ -8,7 +8,7 @@
 
 #include "fx/parallel_for.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Calls fn(i) for every i in [0, count) through `parallel_for` and rethrows, on the calling
 // thread, the exception of the lowest i that threw. `errors` is scratch the caller keeps so
@@ -41,4 +41,4 @@ void parallel_for_each(const ParallelFor& parallel_for, std::size_t count, Fn&& 
         }
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -7,7 +7,7 @@
 
 #include "fx/error.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 struct LimitInfo {
@@ -113,4 +113,4 @@ std::string with_commas(std::uint64_t n) {
     return out;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -54,6 +54,10 @@ class vtkDataArray;
 class vtkPiecewiseFunction;
 class vtkUnstructuredGridBase;
 
+// The plugin calls cellfx::fx by its short name (the plugin's own alias: cellfx declares
+// everything under cellfx::).
+namespace fx = cellfx::fx;
+
 namespace cellfx_vtk {
 
 // Throws fx::Error when unit_distance is not positive and finite or a function has no nodes.

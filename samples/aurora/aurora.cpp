@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "scene_content.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

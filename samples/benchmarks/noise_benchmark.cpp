@@ -20,6 +20,8 @@
 
 #include "fx/noise.hpp"
 
+namespace fx = cellfx::fx;
+
 namespace {
 
 constexpr std::size_t kSide = 64;

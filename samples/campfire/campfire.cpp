@@ -2,6 +2,7 @@
 // fire transfer function, emission only, stopped by the ground), the camera on the scene's
 // path around the fire.
 #include "scene_content.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

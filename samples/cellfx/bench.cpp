@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "fx/error.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 

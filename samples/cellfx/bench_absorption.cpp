@@ -30,10 +30,11 @@
 #include "fx/headless_context.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "fx/synthetic_meshes.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "scanline/synthetic_meshes.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -63,7 +63,7 @@
 #include "fx/image.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
@@ -72,6 +72,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/scene_reference.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

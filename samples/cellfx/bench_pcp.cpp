@@ -26,8 +26,9 @@
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/mesh_io.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -58,6 +58,7 @@
 #include "gl/render_target.hpp"
 #include "mesh_input.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

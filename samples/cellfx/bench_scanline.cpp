@@ -17,8 +17,9 @@
 #include "commands.hpp"
 #include "fx/error.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -24,11 +24,12 @@
 #include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
-#include "fx/synthetic_meshes.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/face_topology.hpp"
+#include "scanline/synthetic_meshes.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

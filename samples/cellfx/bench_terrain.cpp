@@ -31,6 +31,7 @@
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -7,10 +7,11 @@
 
 #include "commands.hpp"
 #include "fx/error.hpp"
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 #include "fx/vtk_legacy.hpp"
 #include "mesh_input.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -7,9 +7,10 @@
 #include "commands.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 

@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "fx/resource_limits.hpp"
+#include "cellfx_names.hpp"
 
 namespace {
 

@@ -5,6 +5,7 @@
 #include "fx/error.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 

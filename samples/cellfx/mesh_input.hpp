@@ -9,6 +9,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/transfer_function.hpp"
 #include "options.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 

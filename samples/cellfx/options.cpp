@@ -8,6 +8,7 @@
 
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 

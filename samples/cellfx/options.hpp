@@ -6,6 +6,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "cellfx_names.hpp"
+
 namespace cellfx_cli {
 
 // Splits arguments into positional ones and "--key value" / "--flag" options. `flags` lists

@@ -20,6 +20,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/scene_reference.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {

@@ -12,6 +12,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

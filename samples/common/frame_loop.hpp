@@ -10,6 +10,7 @@
 #include "gl/gl_object.hpp"
 #include "sample.hpp"
 #include "sample_gl.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

@@ -7,6 +7,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 #include "sample.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

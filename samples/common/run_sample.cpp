@@ -13,6 +13,7 @@
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/image.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

@@ -27,6 +27,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/image.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

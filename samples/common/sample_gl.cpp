@@ -11,6 +11,7 @@
 #include <glm/matrix.hpp>
 
 #include "fx/error.hpp"
+#include "cellfx_names.hpp"
 #include "gl/state_guard.hpp"
 
 #pragma GCC diagnostic push
@@ -20,10 +21,10 @@
 #include <stb/stb_easy_font.h>
 #pragma GCC diagnostic pop
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 // Generated from the shader list in samples/CMakeLists.txt (build tree: sample_embedded_shaders.cpp).
 const EmbeddedShader* sample_embedded_shaders(std::size_t& count);
-} // namespace fx::gl
+} // namespace cellfx::fx::gl
 
 namespace cellfx_samples {
 

@@ -13,6 +13,7 @@
 #include "fx/camera.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/shader_library.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

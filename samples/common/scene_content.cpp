@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "fx/error.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

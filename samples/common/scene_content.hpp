@@ -8,6 +8,7 @@
 
 #include "cellfx/cellfx.hpp"
 #include "sample.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

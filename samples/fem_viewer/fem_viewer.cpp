@@ -18,6 +18,7 @@
 #include "fx/transfer_function.hpp"
 #include "sample.hpp"
 #include "scene_content.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

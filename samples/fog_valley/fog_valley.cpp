@@ -4,6 +4,7 @@
 
 #include "fx/error.hpp"
 #include "scene_content.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

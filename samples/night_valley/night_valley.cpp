@@ -3,6 +3,7 @@
 // it, a search light sweeping through; fog, fire, smoke and beam integrated as one medium where
 // they overlap. The camera flies the scene's path round the fire.
 #include "scene_content.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

@@ -8,6 +8,7 @@
 #include "sample_gl.hpp"
 #include "scene_content.hpp"
 #include "searchlight/drone.hpp"
+#include "cellfx_names.hpp"
 
 namespace cellfx_samples {
 

@@ -6,12 +6,16 @@
 
 int main() {
     try {
-        fx::HeadlessContext context;
+        cellfx::fx::HeadlessContext context;
         game::Frame frame;
         if (!frame.complete()) return game::fail("the game's framebuffer is incomplete");
+        // The game's own terrain::Scene and fx::Error (game_support.hpp) beside cellfx's names.
+        const terrain::Scene world;
+        const fx::Error none;
+        if (world.tiles != 64 || none.what != nullptr) return game::fail("the game's own terrain and fx");
         cellfx::Module fx;
         fx.init(cellfx::Config::from_scene(game::campfire_scene(), game::kWidth, game::kHeight));
-        const fx::Camera camera = cellfx::camera_from_view(game::view_matrix(), 45.0, 0.05, 100.0);
+        const cellfx::fx::Camera camera = cellfx::camera_from_view(game::view_matrix(), 45.0, 0.05, 100.0);
         const game::GameState state;
         for (int i = 0; i < 3; ++i) {
             frame.clear();
@@ -19,7 +23,7 @@ int main() {
             fx.render({frame.framebuffer, {0, 0, game::kWidth, game::kHeight}, frame.depth});
         }
         if (!state.intact()) return game::fail("cellfx changed the game's GL state");
-        if (fx.effect<fx::Campfire>("fire") == nullptr) return game::fail("effect<fx::Campfire>(\"fire\") found nothing");
+        if (fx.effect<cellfx::fx::Campfire>("fire") == nullptr) return game::fail("effect<cellfx::fx::Campfire>(\"fire\") found nothing");
         const int lit = frame.fire_pixels();
         if (lit < 100) return game::fail("the fire is not in the frame");
         if (glGetError() != GL_NO_ERROR) return game::fail("a GL error");

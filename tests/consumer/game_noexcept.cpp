@@ -6,7 +6,7 @@
 
 namespace {
 
-bool frame_ok(cellfx::Module& fx, const game::Frame& frame, const fx::Camera& camera) {
+bool frame_ok(cellfx::Module& fx, const game::Frame& frame, const cellfx::fx::Camera& camera) {
     frame.clear();
     const cellfx::Status updated = fx.try_update(1.0 / 60.0, camera);
     const cellfx::Status rendered = fx.try_render({frame.framebuffer, {0, 0, game::kWidth, game::kHeight}, frame.depth});
@@ -17,13 +17,13 @@ bool frame_ok(cellfx::Module& fx, const game::Frame& frame, const fx::Camera& ca
 } // namespace
 
 int main() {
-    fx::HeadlessContext context; // (a game makes its own context; this one aborts if it cannot)
+    cellfx::fx::HeadlessContext context; // (a game makes its own context; this one aborts if it cannot)
     game::Frame frame;
     if (!frame.complete()) return game::fail("the game's framebuffer is incomplete");
     cellfx::Module fx;
     if (cellfx::Status s = fx.try_init(cellfx::Config::from_scene(game::campfire_scene(), game::kWidth, game::kHeight)); !s)
         return game::fail(s.message().c_str());
-    fx::Camera camera;
+    cellfx::fx::Camera camera;
     if (cellfx::Status s = cellfx::try_camera_from_view(game::view_matrix(), 45.0, 0.05, 100.0, camera); !s)
         return game::fail(s.message().c_str());
     if (cellfx::try_camera_from_view(game::view_matrix(), 45.0, 1.0, 0.5, camera))
@@ -33,7 +33,7 @@ int main() {
     const int before = frame.fire_pixels();
 
     // The type tag instead of dynamic_cast.
-    if (fx.effect<fx::Campfire>("fire") == nullptr || fx.effect<fx::SearchLight>("fire") != nullptr)
+    if (fx.effect<cellfx::fx::Campfire>("fire") == nullptr || fx.effect<cellfx::fx::SearchLight>("fire") != nullptr)
         return game::fail("effect<E>() did not tell a campfire from a search light");
     // A bad reload is refused and names the file; the fire keeps burning.
     const cellfx::Status bad = fx.try_reload("no_such_scene.json");
@@ -41,7 +41,7 @@ int main() {
     // Effects at run time: a second fire, brighter; the first one's extinction changed, then removed.
     cellfx::EffectSpec second = fx.scene().effects[0];
     second.name = "second";
-    fx::CampfireParams p;
+    cellfx::fx::CampfireParams p;
     p.position = {0.6, 0.3, 0.0};
     second.params = p;
     if (cellfx::Status s = fx.try_add_effect(second); !s) return game::fail(s.message().c_str());

@@ -11,6 +11,19 @@
 
 #include "cellfx/cellfx.hpp"
 
+// The game's own fx and terrain namespaces, with names cellfx once declared at the top level
+// (fx::Error, terrain::Scene): cellfx declares everything under cellfx::, so they do not clash.
+namespace fx {
+struct Error {
+    const char* what = nullptr;
+};
+} // namespace fx
+namespace terrain {
+struct Scene {
+    int tiles = 64;
+};
+} // namespace terrain
+
 namespace game {
 
 constexpr int kWidth = 160, kHeight = 120;
@@ -19,12 +32,12 @@ inline cellfx::Scene campfire_scene() {
     cellfx::Scene scene;
     cellfx::EffectSpec fire;
     fire.name = "fire";
-    fire.params = fx::CampfireParams{};
+    fire.params = cellfx::fx::CampfireParams{};
     // Black to red to yellow-white, sigma rising with temperature (normalized: mapped onto [0, 1]).
-    fire.transfer_function = fx::TransferFunction({{0.0, {0.0, 0.0, 0.0}, 0.0},
-                                                   {0.5, {1.0, 0.25, 0.05}, 4.0},
-                                                   {1.0, {1.0, 0.9, 0.5}, 12.0}},
-                                                  true);
+    fire.transfer_function = cellfx::fx::TransferFunction({{0.0, {0.0, 0.0, 0.0}, 0.0},
+                                                           {0.5, {1.0, 0.25, 0.05}, 4.0},
+                                                           {1.0, {1.0, 0.9, 0.5}, 12.0}},
+                                                          true);
     fire.extinction_scale = 0.2;
     scene.effects.push_back(fire);
     scene.camera.eye = {1.6, -2.4, 1.2};

@@ -29,7 +29,7 @@
 #include "fx/avs_ucd.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/plot3d.hpp"
@@ -37,6 +37,7 @@
 #include "fx/vtk_legacy.hpp"
 #include "terrain/height_field.hpp"
 #include "terrain/scene.hpp"
+#include "../cellfx_names.hpp"
 
 namespace fx_fuzz {
 

@@ -22,11 +22,11 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 CellMesh read_avs_ucd(const std::string& path, std::vector<std::string>* notes = nullptr);
 
 // Same, from bytes in memory (fuzzers); `name` is used in messages.
 CellMesh parse_avs_ucd(const std::vector<char>& bytes, const std::string& name, std::vector<std::string>* notes = nullptr);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -13,7 +13,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 
 struct Ray {
     glm::dvec3 origin;
@@ -72,4 +72,4 @@ struct Camera {
     static Camera framing(const glm::dvec3& lo, const glm::dvec3& hi, double fov_y_degrees = 40.0);
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -31,7 +31,7 @@
 
 #include "fx/effect.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct CampfireParams {
     glm::dvec3 position{0.0};     // centre of the base in the parent's frame (world units, m)
@@ -97,4 +97,4 @@ private:
     std::vector<float> noise_values_;      // scratch
 };
 
-} // namespace fx
+} // namespace cellfx::fx

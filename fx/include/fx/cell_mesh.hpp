@@ -24,7 +24,7 @@
 
 #include <glm/vec3.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class CellType : std::uint8_t {
     Tetra = 10,
@@ -120,4 +120,4 @@ struct ScalarRange {
 // Range of the finite values of a field.
 ScalarRange scalar_range(const ScalarField& field);
 
-} // namespace fx
+} // namespace cellfx::fx

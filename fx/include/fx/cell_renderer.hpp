@@ -60,7 +60,7 @@
 #include "fx/transfer_function.hpp"
 #include "fx/visibility_sort.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class RenderPath { Pcp, PcpExact, Mip, Absorption, AbsorptionExact };
 // Every path, in the order tools list them (the CLI offers each under render_path_name()).
@@ -168,4 +168,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -39,7 +39,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/medium.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // What a frame asks of an effect.
 struct EffectView {
@@ -173,4 +173,4 @@ void check_effect_cells(std::uint64_t cells, const std::string& what);
 // The box of `bounds` moved by `m` (its 8 corners transformed).
 Bounds transform_bounds(const Bounds& bounds, const glm::dmat4& m);
 
-} // namespace fx
+} // namespace cellfx::fx

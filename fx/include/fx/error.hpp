@@ -8,11 +8,11 @@
 #include <stdexcept>
 #include <string>
 
-namespace fx {
+namespace cellfx::fx {
 
 class Error : public std::runtime_error {
 public:
     explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -18,7 +18,7 @@
 #include <memory>
 #include <string>
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class EglPlatform {
     Auto,        // CELLFX_EGL_PLATFORM if set, else device with an NVIDIA driver, else surfaceless
@@ -61,4 +61,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -12,7 +12,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 
 struct Image {
     int width = 0;
@@ -38,4 +38,4 @@ Image read_pfm(const std::string& path);                     // alpha set to 1
 // Chooses the writer from the extension (.png or .pfm).
 void write_image(const Image& image, const std::string& path);
 
-} // namespace fx
+} // namespace cellfx::fx

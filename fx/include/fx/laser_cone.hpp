@@ -24,7 +24,7 @@
 
 #include "fx/effect.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct LaserConeParams {
     glm::dvec3 position{0.0};            // emitter, parent frame (m)
@@ -84,4 +84,4 @@ private:
     std::vector<float> dust_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

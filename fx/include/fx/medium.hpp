@@ -1,6 +1,6 @@
 // cellfx — one medium per scene: how volumes that overlap along a ray are integrated together,
 // and how lights scatter in them. CPU only (no GL); the GPU compositor
-// (fx/medium_compositor.hpp) and the scan-line reference (ScanlineOptions::media) both follow
+// (medium_compositor.hpp) and the scan-line reference (ScanlineOptions::media) both follow
 // the model written here.
 //
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (intersecting grids: a ray's crossings of
@@ -35,7 +35,7 @@
 #include "fx/segment_integral.hpp"
 #include "fx/transfer_function.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Spans are cut into pieces of at most this optical depth (see the header comment).
 constexpr double kMaxPieceDepth = 0.25;
@@ -110,4 +110,16 @@ private:
     std::vector<std::size_t> point_lights_;    // volumes with a point light
 };
 
-} // namespace fx
+// What the GPU compositor did in a frame (terrain::FrameStats::medium).
+struct MediumStats {
+    std::size_t pixels = 0;         // in the region
+    std::size_t segments = 0;       // appended this frame
+    std::size_t capacity = 0;       // of the segment pool (segments)
+    std::size_t redraws = 0;        // appends repeated after the pool overflowed
+    std::size_t volumes = 0;        // appended this frame
+    double cpu_ms = 0.0;            // of append() and resolve() together
+    double gpu_ms = -1.0;           // GL_TIME_ELAPSED of appends and resolve (with timing)
+    double append_gpu_ms = -1.0, resolve_gpu_ms = -1.0; // its two parts
+};
+
+} // namespace cellfx::fx

@@ -16,7 +16,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class MeshFileFormat { VtkLegacy, AvsUcd, Plot3d };
 const char* mesh_file_format_name(MeshFileFormat format); // "VTK legacy", "AVS UCD", "PLOT3D"
@@ -26,4 +26,4 @@ MeshFileFormat sniff_mesh_format(const char* data, std::size_t size);
 
 CellMesh read_mesh(const std::string& path, const std::string& q_path = "", std::vector<std::string>* notes = nullptr);
 
-} // namespace fx
+} // namespace cellfx::fx

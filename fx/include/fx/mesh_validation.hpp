@@ -24,9 +24,8 @@
 #include <vector>
 
 #include "fx/cell_mesh.hpp"
-#include "fx/face_topology.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class MeshProblemKind {
     IndexOutOfRange,
@@ -67,19 +66,6 @@ CellShape classify_cell(const CellMesh& mesh, std::size_t cell);
 // All problems, in cell order (the overlap checks build the mesh's face topology).
 std::vector<MeshProblem> validate_mesh(const CellMesh& mesh);
 
-// Two cells of one block that overlap: `cell` lies on the same side of a face it shares with
-// `other` (other < cell), or has the same points (duplicate). Found from the face topology
-// (faces matched by point ids), so cells that overlap without sharing points are not listed;
-// the scan-line renderer finds those along its rays.
-struct CellOverlap {
-    std::uint32_t other, cell;
-    bool duplicate;
-};
-std::vector<CellOverlap> find_overlapping_cells(const CellMesh& mesh, const FaceTopology& topology,
-                                                const std::vector<CellShape>& shapes);
-// "cell 5 has the same points as cell 2" / "cells 2 and 5 lie on the same side of their shared face".
-std::string describe_overlap(const CellOverlap& overlap);
-
 // The checks every render path runs on a mesh before it draws it. Throws fx::Error, starting
 // with `who` ("post.vtk", "scan-line renderer"), when the mesh is over the mesh-points or
 // mesh-cells limit, has an index out of range, a non-finite coordinate or one beyond
@@ -99,4 +85,4 @@ struct OrientationReport {
 // swap 1 and 2; pyramid: reverse the base; wedge and hexahedron: swap the two end faces).
 OrientationReport orient_cells(CellMesh& mesh);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -45,7 +45,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class NoiseBasis { perlin, simplex };
 
@@ -142,4 +142,4 @@ void fill_points4(const Noise& noise, const Fractal& fractal, const glm::dvec4* 
 void warp_points2(const Noise& noise, const DomainWarp& warp, glm::dvec2* points, std::size_t count);
 void warp_points3(const Noise& noise, const DomainWarp& warp, glm::dvec3* points, std::size_t count);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -14,7 +14,7 @@
 
 #include <cstddef>
 
-namespace fx {
+namespace cellfx::fx {
 
 // The host's job system, for the CPU work cellfx can split: runs task(task_context, i) for
 // every i in [0, count), in any order and on any threads, and returns when all have run.
@@ -31,4 +31,4 @@ ParallelFor default_parallel_for();
 // How many tasks default_parallel_for() runs at once: hardware threads (at least 1).
 std::size_t default_parallel_for_threads();
 
-} // namespace fx
+} // namespace cellfx::fx

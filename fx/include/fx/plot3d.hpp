@@ -29,7 +29,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct Plot3dFormat {
     bool big_endian = true;
@@ -86,4 +86,4 @@ Plot3dData parse_plot3d(const std::vector<char>& xyz_bytes, const std::string& x
 void write_plot3d(const std::vector<Plot3dBlock>& blocks, const Plot3dFormat& format, const std::string& xyz_path,
                   const std::string& q_path = "");
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -21,7 +21,7 @@
 #include <string>
 #include <string_view>
 
-namespace fx {
+namespace cellfx::fx {
 
 struct ResourceLimits {
     std::uint64_t file_bytes = std::uint64_t(2) << 30;  // one mesh, q or height-map file
@@ -82,4 +82,4 @@ void check_limit(Limit limit, std::uint64_t amount, const std::string& what);
 // "37,479": counts in messages.
 std::string with_commas(std::uint64_t n);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -94,7 +94,7 @@
 #include "fx/medium.hpp"
 #include "fx/transfer_function.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace scanline {
 struct FrameBuffers;
@@ -198,4 +198,4 @@ private:
     mutable std::unique_ptr<scanline::FrameBuffers> spare_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -30,7 +30,7 @@
 
 #include "fx/effect.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // A periodic swing of the beam: direction rotated about `axis` (parent frame) by
 // amplitude·sin(2π·t/period + phase).
@@ -95,4 +95,4 @@ private:
     std::vector<double> along_, across_; // per point, from the cone builder
 };
 
-} // namespace fx
+} // namespace cellfx::fx

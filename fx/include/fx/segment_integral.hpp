@@ -24,7 +24,7 @@
 
 #include "fx/transfer_function.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Emission only: ∫₀ˡ c(s(t))·σ(s(t)) dt. Exact for l → 0 (→ 0) and s_front == s_back.
 glm::dvec3 emission_integral(const TransferFunction& tf, double s_front, double s_back, double length);
@@ -84,4 +84,4 @@ struct PreintegrationTable {
 PreintegrationTable build_preintegration_table(const TransferFunction& tf, std::size_t n_s, std::size_t n_l,
                                                double max_length);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -22,7 +22,7 @@
 
 #include <glm/vec3.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 
 // The largest extinction (per world unit) and colour component a transfer function may hold:
 // every value and colour·sigma (≤ 1e38) fit a float, which the GPU paths' tables are. An
@@ -75,4 +75,4 @@ private:
     bool normalized_ = false;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -54,7 +54,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class SortMethod {
     Centroid,
@@ -118,4 +118,4 @@ private:
     std::shared_ptr<sort_detail::Scratch> scratch_;              // one sort's turn, xmpvo's edges
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -39,7 +39,7 @@
 
 #include "fx/effect.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 enum class VolumeShape { Box, Sphere, Mesh };
 enum class VolumeDensity { Constant, Noise, Field };
@@ -113,4 +113,4 @@ private:
     std::vector<float> noise_values_;      // scratch
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -25,7 +25,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Reads a VTK legacy file. `notes`, when given, receives human-readable lines about what was
 // skipped or converted ("skipped 3 2-D cells (types 5, 9)").
@@ -40,4 +40,4 @@ CellMesh parse_vtk_legacy(const std::vector<char>& bytes, const std::string& nam
 // written or the mesh is inconsistent.
 void write_vtk_legacy(const CellMesh& mesh, const std::string& path, bool binary);
 
-} // namespace fx
+} // namespace cellfx::fx

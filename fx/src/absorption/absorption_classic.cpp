@@ -1,6 +1,6 @@
 // Based on: Max, Williams & Silva 2000, §II (2-D exponential texture, analytic vertex colour
 // divided by α) and §V (slicing cells at transfer-function breakpoints).
-#include "fx/absorption_classic.hpp"
+#include "absorption/absorption_classic.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,10 +10,10 @@
 
 #include "fx/error.hpp"
 #include "fx/segment_integral.hpp"
-#include "fx/tetrahedralize.hpp"
 #include "frame_storage.hpp"
+#include "mesh/tetrahedralize.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 OpacityTable build_opacity_table(int size, double max_product) {
     if (size < 2) throw Error("opacity table: size must be at least 2, got " + std::to_string(size));
@@ -325,4 +325,4 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
     out.polygons += subdivision_.polygon_count();
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -1,7 +1,7 @@
 // Based on: Max, Williams & Silva 2000, §II (polyhedron projection: the subdivision of the
 // image plane by the projected edges, thickness and front/back values at its vertices) and
 // Shirley & Tuchman 1990 (the four projection classes of a tetrahedron).
-#include "fx/projected_subdivision.hpp"
+#include "absorption/projected_subdivision.hpp"
 #include "frame_storage.hpp"
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
@@ -343,4 +343,4 @@ void clip_polyhedron(const ConvexPolyhedron& in, const std::vector<double>& f, c
         out.triangles.push_back({ordered[0].second, ordered[i].second, ordered[i + 1].second});
 }
 
-} // namespace fx
+} // namespace cellfx::fx

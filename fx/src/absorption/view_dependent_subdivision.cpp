@@ -1,15 +1,15 @@
 // Based on: Max, Williams & Silva 2000, §V (view-dependent subdivision of problem cells) and
 // §IV (consistent tetrahedra).
-#include "fx/view_dependent_subdivision.hpp"
+#include "absorption/view_dependent_subdivision.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 ViewDependentSubdivision::ViewDependentSubdivision(const CellMesh& mesh, double planarity) : mesh_(mesh) {
     const std::size_t nc = mesh.cell_count();
@@ -90,4 +90,4 @@ void ViewDependentSubdivision::rebuild() {
     }
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -12,7 +12,7 @@
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -197,4 +197,4 @@ EffectChanges Campfire::simulate(const EffectView& view) {
     return changes;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace fx::effects {
+namespace cellfx::fx::effects {
 
 namespace {
 constexpr double kTwoPi = 6.283185307179586;
@@ -75,4 +75,4 @@ MediumLight cone_light(const ConeShape& shape, double intensity) {
     return light;
 }
 
-} // namespace fx::effects
+} // namespace cellfx::fx::effects

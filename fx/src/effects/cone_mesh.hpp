@@ -12,7 +12,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/medium.hpp"
 
-namespace fx::effects {
+namespace cellfx::fx::effects {
 
 struct ConeShape {
     double range = 1.0;       // > 0
@@ -38,4 +38,4 @@ Bounds cone_bounds(const ConeShape& shape);
 // lens, its rays diverging from the cone's apex, strength = scalar / intensity (0 < intensity).
 MediumLight cone_light(const ConeShape& shape, double intensity);
 
-} // namespace fx::effects
+} // namespace cellfx::fx::effects

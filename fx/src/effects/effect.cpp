@@ -10,7 +10,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -165,4 +165,4 @@ bool bounds_in_view(const Bounds& bounds, const Camera& camera, double aspect) {
     return Frustum(camera, aspect).intersects(bounds);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -11,7 +11,7 @@
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -136,4 +136,4 @@ EffectChanges LaserCone::simulate(const EffectView& view) {
     return changes;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -11,7 +11,7 @@
 #include "effects/cone_mesh.hpp"
 #include "fx/error.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -122,4 +122,4 @@ EffectChanges SearchLight::simulate(const EffectView&) {
     return changes;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

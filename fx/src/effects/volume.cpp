@@ -15,7 +15,7 @@
 #include "fx/mesh_validation.hpp"
 #include "fx/noise.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -348,4 +348,4 @@ EffectChanges Volume::simulate(const EffectView& view) {
     return changes;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -2,7 +2,7 @@
 
 #include "gl/state_guard.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 CompositePass CompositePass::create(const ShaderLibrary& library) {
     CompositePass pass;
@@ -45,4 +45,4 @@ void CompositePass::draw_over_color(GLuint image, const glm::vec3& background) c
 
 void CompositePass::draw_over_framebuffer(GLuint image) const { draw(over_framebuffer_, image, true); }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

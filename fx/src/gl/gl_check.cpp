@@ -5,7 +5,7 @@
 
 #include "fx/error.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 const char* gl_error_name(GLenum error) {
     switch (error) {
@@ -38,4 +38,4 @@ void check_gl_errors(const char* call, const char* file, int line) {
     throw Error(message);
 }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

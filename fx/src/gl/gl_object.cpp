@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 Buffer make_buffer(GLsizeiptr size, const void* data, GLbitfield flags) {
     if (size <= 0)
@@ -65,4 +65,4 @@ Renderbuffer make_renderbuffer(GLenum internal_format, int width, int height) {
     return renderbuffer;
 }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

@@ -22,7 +22,7 @@
 #define EGL_DRM_RENDER_NODE_FILE_EXT 0x3377
 #endif
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 const char* egl_error_name(EGLint code) {
@@ -342,4 +342,4 @@ std::string HeadlessContext::description() const {
     return s;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -3,7 +3,7 @@
 #include <atomic>
 #include <vector>
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 namespace {
 
 std::mutex registry_mutex;
@@ -73,4 +73,4 @@ std::size_t ProgramCache::program_count() const {
 
 std::size_t ProgramCache::programs_linked() { return linked; }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

@@ -24,7 +24,7 @@
 #include "gl/gl_object.hpp"
 #include "gl/shader_library.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 class ProgramCache {
 public:
@@ -51,4 +51,4 @@ private:
     std::map<std::string, Program, std::less<>> programs_;
 };
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

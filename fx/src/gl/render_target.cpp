@@ -8,7 +8,7 @@
 #include "fx/resource_limits.hpp"
 #include "gl/state_guard.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 GLenum internal_format(ColorFormat format) {
     switch (format) {
@@ -97,4 +97,4 @@ Image RenderTarget::read() const {
     return image;
 }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

@@ -3,7 +3,7 @@
 #include <cctype>
 #include <set>
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 namespace {
 
 std::string_view trim_left(std::string_view s) {
@@ -334,4 +334,4 @@ Program ShaderLibrary::link(std::initializer_list<std::string_view> names, const
     return link_program(shaders, what);
 }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

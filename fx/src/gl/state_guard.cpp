@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 namespace {
 
 thread_local int guard_depth = 0;       // guards alive on this thread
@@ -253,4 +253,4 @@ void StateGuard::set_render_defaults() {
         glPixelStorei(name, name == GL_UNPACK_ALIGNMENT ? 1 : 0);
 }
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

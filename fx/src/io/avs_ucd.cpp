@@ -13,7 +13,7 @@
 
 #include "io/io_util.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 using io::Scanner;
@@ -214,4 +214,4 @@ CellMesh read_avs_ucd(const std::string& path, std::vector<std::string>* notes) 
     return parse_avs_ucd(io::read_file_bytes(path), path, notes);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

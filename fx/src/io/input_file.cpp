@@ -12,7 +12,7 @@
 
 #include "fx/error.hpp"
 
-namespace fx::io {
+namespace cellfx::fx::io {
 namespace {
 
 // Closes a file descriptor on every way out.
@@ -117,4 +117,4 @@ void check_json_encoding(std::string_view text, const std::string& source) {
     }
 }
 
-} // namespace fx::io
+} // namespace cellfx::fx::io

@@ -21,7 +21,7 @@
 #include "fx/resource_limits.hpp"
 #include "io/input_file.hpp"
 
-namespace fx::io {
+namespace cellfx::fx::io {
 
 // The bytes of a mesh or q file, within the file-bytes budget (input_file.hpp). Every format
 // cellfx reads starts with a non-zero byte among the first four (text, or a PLOT3D count or
@@ -245,4 +245,4 @@ void orient_and_note(CellMesh& mesh, std::vector<std::string>* notes, NameCell n
 
 inline bool all_finite(double x, double y, double z) { return std::isfinite(x) && std::isfinite(y) && std::isfinite(z); }
 
-} // namespace fx::io
+} // namespace cellfx::fx::io

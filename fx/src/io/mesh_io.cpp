@@ -9,7 +9,7 @@
 #include "fx/vtk_legacy.hpp"
 #include "io/io_util.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 bool starts_with_vtk_header(const char* data, std::size_t size) {
@@ -104,4 +104,4 @@ CellMesh read_mesh(const std::string& path, const std::string& q_path, std::vect
                        "before allocating, or free memory)");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

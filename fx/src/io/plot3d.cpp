@@ -10,7 +10,7 @@
 
 #include "io/io_util.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 using Dims = std::array<std::uint32_t, 3>;
@@ -553,4 +553,4 @@ void write_plot3d(const std::vector<Plot3dBlock>& blocks, const Plot3dFormat& fo
     io::write_file_bytes(q_path, q);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

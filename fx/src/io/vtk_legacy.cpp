@@ -15,7 +15,7 @@
 
 #include "io/io_util.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 using io::Scanner;
@@ -831,4 +831,4 @@ void write_vtk_legacy(const CellMesh& mesh, const std::string& path, bool binary
     io::write_file_bytes(path, out);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -12,7 +12,7 @@
 
 #include "fx/error.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 namespace {
 
@@ -191,4 +191,4 @@ SegmentColor Medium::integrate_span(const SpanVolume* inside, std::size_t count,
     return acc;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -1,7 +1,7 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (intersecting grids integrated in depth
 // order per pixel), on the GPU with per-pixel lists of ray segments. Shaders:
 // medium_lists.glsl, medium_append.frag (with the projector's cells.vert), medium_resolve.frag.
-#include "fx/medium_compositor.hpp"
+#include "medium/medium_compositor.hpp"
 
 #include <algorithm>
 #include <array>
@@ -24,7 +24,7 @@
 #include "projector/gl_interface.hpp"
 #include "render/projector_access.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag). The append
@@ -434,4 +434,4 @@ PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int
     return {ix0, iy0, ix1 - ix0, iy1 - iy0};
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -1,11 +1,11 @@
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 
 #include <algorithm>
 #include <array>
 
 #include "frame_storage.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // A face's vertex set, sorted, padded with 0xFFFFFFFF for triangles, plus its slot.
@@ -98,4 +98,4 @@ void build_face_topology(const CellMesh& mesh, FaceTopology& topo, FaceTopologyS
     }
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -10,8 +10,9 @@
 
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
+#include "mesh/face_topology.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
@@ -420,4 +421,4 @@ OrientationReport orient_cells(CellMesh& mesh) {
     return report;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

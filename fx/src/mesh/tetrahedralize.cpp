@@ -1,12 +1,12 @@
 // Based on: Max, Williams & Silva 2000, §IV — the smallest-vertex diagonal rule.
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
 #include <algorithm>
 #include <utility>
 
 #include <glm/geometric.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Reference cells in VTK order, positively oriented (see cell_mesh.hpp). Used only to orient
@@ -158,4 +158,4 @@ CellMesh tetrahedralize(const CellMesh& mesh, std::vector<std::uint32_t>* parent
     return result;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -12,7 +12,7 @@
 #include "fx/error.hpp"
 #include "noise_fractal.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace noise_detail {
 namespace {
 
@@ -186,4 +186,4 @@ glm::dvec3 Noise::warp3(const DomainWarp& warp, glm::dvec3 p) const {
     return out;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

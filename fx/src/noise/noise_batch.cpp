@@ -12,7 +12,7 @@
 #include "fx/noise.hpp"
 #include "noise_batch.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace noise_detail {
 namespace {
 
@@ -181,4 +181,4 @@ void warp_points3(const Noise& noise, const DomainWarp& warp, glm::dvec3* points
     warp_points<3>("fx::warp_points3: ", noise, warp, points, count, batch_kernels().fill_points3);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

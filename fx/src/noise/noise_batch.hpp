@@ -12,7 +12,7 @@
 
 #include "noise_fractal.hpp"
 
-namespace fx::noise_detail {
+namespace cellfx::fx::noise_detail {
 
 constexpr std::size_t kBlock = 64; // samples per block: the running sums stay in L1
 
@@ -59,4 +59,4 @@ bool batch_isa_supported(BatchIsa isa); // compiled in and, for AVX2, the CPU ha
 void set_batch_isa(BatchIsa isa);
 const BatchKernels& batch_kernels();
 
-} // namespace fx::noise_detail
+} // namespace cellfx::fx::noise_detail

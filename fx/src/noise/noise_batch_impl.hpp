@@ -14,7 +14,7 @@
 
 #include "noise_batch.hpp"
 
-namespace fx::noise_detail {
+namespace cellfx::fx::noise_detail {
 inline namespace FX_NOISE_ISA {
 namespace {
 
@@ -210,4 +210,4 @@ const BatchKernels& FX_NOISE_BATCH_KERNELS() {
     return kernels;
 }
 
-} // namespace fx::noise_detail
+} // namespace cellfx::fx::noise_detail

@@ -11,7 +11,7 @@
 #include "fx/noise.hpp"
 #include "noise_kernels.hpp"
 
-namespace fx::noise_detail {
+namespace cellfx::fx::noise_detail {
 
 constexpr int kMaxOctaves = 16;
 
@@ -90,4 +90,4 @@ template <class F> inline F finish(F sum) {
 }
 
 } // namespace FX_NOISE_ISA
-} // namespace fx::noise_detail
+} // namespace cellfx::fx::noise_detail

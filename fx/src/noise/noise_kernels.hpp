@@ -33,7 +33,7 @@
 #define FX_NOISE_LANES 4 // SSE2 / NEON width; 8 lanes without AVX spill registers and run slower
 #endif
 
-namespace fx::noise_detail {
+namespace cellfx::fx::noise_detail {
 inline namespace FX_NOISE_ISA {
 
 static_assert(FLT_EVAL_METHOD == 0, "noise needs IEEE single/double arithmetic without excess precision (SSE, not x87)");
@@ -514,4 +514,4 @@ inline std::uint32_t mix_seed(std::uint32_t seed, int octave) {
 }
 
 } // namespace FX_NOISE_ISA
-} // namespace fx::noise_detail
+} // namespace cellfx::fx::noise_detail

@@ -20,7 +20,7 @@
 #include "projector/gl_interface.hpp"
 #include "frame_storage.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -248,4 +248,4 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     FX_GL_CHECK("absorption draw");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -27,19 +27,19 @@
 #include <memory>
 #include <vector>
 
-#include "fx/absorption_classic.hpp"
+#include "absorption/absorption_classic.hpp"
 #include "fx/camera.hpp"
 #include "fx/parallel_for.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/cell_renderer.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "fx/transfer_function.hpp"
-#include "fx/view_dependent_subdivision.hpp"
+#include "absorption/view_dependent_subdivision.hpp"
 #include "fx/visibility_sort.hpp"
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class AbsorptionPass {
 public:
@@ -96,4 +96,4 @@ private:
     std::size_t table_bytes_ = 0;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

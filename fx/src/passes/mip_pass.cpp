@@ -4,7 +4,7 @@
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 MipPass::MipPass(GlProjector& projector)
     : projector_(projector), programs_(projector.programs({"faces.vert", "mip.frag"})),
@@ -46,4 +46,4 @@ void MipPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     FX_GL_CHECK("mip draw");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -12,11 +12,11 @@
 #include <glm/vec4.hpp>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class MipPass {
 public:
@@ -32,4 +32,4 @@ private:
     std::vector<glm::uvec4> frame_data_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

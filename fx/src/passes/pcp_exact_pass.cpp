@@ -4,7 +4,7 @@
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 PcpExactPass::PcpExactPass(const GlProjector& projector)
     : projector_(projector), programs_(projector.programs({"cells.vert", "pcp_exact.frag"}, projector.mesh_defines())) {}
@@ -26,4 +26,4 @@ void PcpExactPass::draw(const Camera& camera, const Viewport& viewport, const Ce
     FX_GL_CHECK("pcp-exact draw");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

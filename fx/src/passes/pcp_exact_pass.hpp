@@ -10,7 +10,7 @@
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class PcpExactPass {
 public:
@@ -23,4 +23,4 @@ private:
     const ProgramVariants programs_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

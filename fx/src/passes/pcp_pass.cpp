@@ -5,7 +5,7 @@
 #include "projector/gl_interface.hpp"
 #include "frame_storage.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 PcpPass::PcpPass(GlProjector& projector)
     : projector_(projector), programs_(projector.programs({"cells.vert", "pcp.frag"},
                                                         projector.mesh_defines().set("CELL_LIST").set("CLASSIC"))),
@@ -124,4 +124,4 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     FX_GL_CHECK("pcp draw");
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -1,6 +1,6 @@
 // cellfx — the classic `pcp` render path's pass over the GL projector: Roettger & Ertl's three
 // passes per batch of cells with disjoint screen footprints, into an 8-bit target
-// (shaders/pcp.frag; batching: fx/include/fx/footprint_batches.hpp).
+// (shaders/pcp.frag; batching: projector/footprint_batches.hpp).
 //
 // Based on: Roettger & Ertl 2003, §3 (three passes per cell) and §5 (near-plane caps).
 //
@@ -14,12 +14,12 @@
 #include <glm/vec4.hpp>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/footprint_batches.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/footprint_batches.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "gl/gl_object.hpp"
 #include "projector/gl_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class PcpPass {
 public:
@@ -42,4 +42,4 @@ private:
     std::vector<glm::uvec4> cap_data_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -1,5 +1,5 @@
 // Based on: Roettger & Ertl 2003, §3 (three passes per cell through the alpha channel).
-#include "fx/footprint_batches.hpp"
+#include "projector/footprint_batches.hpp"
 #include "frame_storage.hpp"
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 // Margin around the projected hull, in pixels. Rasterisation covers pixel centres inside the
@@ -163,4 +163,4 @@ std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std
     return batches;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -4,7 +4,7 @@
 #include "fx/error.hpp"
 #include "gl/state_guard.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Every texture unit the projector uses is one gl::StateGuard saves and restores.
 static_assert(kUnitCount <= gl::StateGuard::kUnits, "extend gl::StateGuard::kUnits");
@@ -53,4 +53,4 @@ const gl::ShaderLibrary& projector_shader_library() {
     return library;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

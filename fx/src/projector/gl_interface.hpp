@@ -16,7 +16,7 @@
 
 #include "gl/shader_library.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // X(c++ name, GLSL name, value). Uniform locations are unique across all projector programs so
 // that one program may use any set of them.
@@ -88,4 +88,4 @@ std::string projector_interface_glsl();
 // The built-in shaders plus the generated "projector_interface.glsl" (made once).
 const gl::ShaderLibrary& projector_shader_library();
 
-} // namespace fx
+} // namespace cellfx::fx

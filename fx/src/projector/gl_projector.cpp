@@ -11,14 +11,14 @@
 #include <glm/matrix.hpp>
 
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 #include "frame_storage.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 constexpr int kTableSize = 4096;
@@ -575,4 +575,4 @@ void GlCellList::draw(std::size_t first, std::size_t count) const {
                        reinterpret_cast<const void*>(begin * sizeof(std::uint32_t)));
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -54,14 +54,14 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/face_topology.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "mesh/face_topology.hpp"
+#include "projector/polyhedron_projector.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/program_cache.hpp"
 #include "gl/shader_library.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // A projector program in two variants: without and with the scene's depth (SCENE_DEPTH defined,
 // project.glsl). Testing against the scene costs every fragment a fetch and two divisions, and
@@ -233,4 +233,4 @@ private:
     std::vector<std::size_t> first_element_; // per slot + 1 (cells other than tetrahedra)
 };
 
-} // namespace fx
+} // namespace cellfx::fx

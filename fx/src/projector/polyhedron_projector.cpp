@@ -1,5 +1,5 @@
 // Based on: Roettger & Ertl 2003, §3 (d, d_min, Δd, front/back faces) and §5 (near-plane caps).
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "fx/error.hpp"
 #include "frame_storage.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 std::size_t ProjectorGeometry::memory_bytes() const {
     return positions.capacity() * sizeof(glm::vec3) + scalars.capacity() * sizeof(float) +
@@ -263,4 +263,4 @@ void build_near_caps(const ProjectorGeometry& geometry, const ProjectorView& vie
     for (std::uint32_t c : projected.cut_cells) append_near_cap(geometry, view, projected, c, caps);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

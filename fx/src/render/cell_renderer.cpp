@@ -25,7 +25,7 @@
 #include "projector/gl_projector.hpp"
 #include "render/projector_access.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 const char* render_path_name(RenderPath path) {
     switch (path) {
@@ -214,4 +214,4 @@ Image CellRenderer::render_to_image(const Camera& camera, int width, int height,
     return out.read();
 }
 
-} // namespace fx
+} // namespace cellfx::fx

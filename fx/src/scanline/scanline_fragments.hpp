@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace fx::scanline {
+namespace cellfx::fx::scanline {
 
 // One crossing of a triangle with a pixel ray: Table 2's depth and data value (q, the scalar
 // times w), with what the pixel walk needs to know about the triangle (its code breaks
@@ -95,4 +95,4 @@ inline void sort_by_depth(Fragment* k, std::size_t n, std::vector<Fragment>& scr
     if (src != k) std::copy(src, src + n, k);
 }
 
-} // namespace fx::scanline
+} // namespace cellfx::fx::scanline

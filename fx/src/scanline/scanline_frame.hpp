@@ -16,7 +16,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx::scanline {
+namespace cellfx::fx::scanline {
 
 // Screen-space depth in pixel units (§5). Perspective: z_s = f·(1 − z_r/z_e), affine in
 // 1/z_e and so linear over a projected triangle, one pixel per world unit·f/z_r near the
@@ -106,4 +106,4 @@ struct FrameGeometry {
     void add_triangle(const Vertex& a, const Vertex& b, const Vertex& c, std::uint32_t grid, bool toggles, Facing facing);
 };
 
-} // namespace fx::scanline
+} // namespace cellfx::fx::scanline

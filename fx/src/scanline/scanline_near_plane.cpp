@@ -12,7 +12,7 @@
 
 #include "scanline/scanline_frame.hpp"
 
-namespace fx::scanline {
+namespace cellfx::fx::scanline {
 
 bool FrameGeometry::behind(std::uint32_t id) const {
     if (id < points.size()) return points[id].z == kBehind;
@@ -130,4 +130,4 @@ std::size_t FrameGeometry::add_cap(const std::uint32_t* face_triangles, int tria
     return static_cast<std::size_t>(n - 2);
 }
 
-} // namespace fx::scanline
+} // namespace cellfx::fx::scanline

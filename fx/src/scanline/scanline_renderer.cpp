@@ -33,14 +33,14 @@
 #include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/resource_limits.hpp"
 #include "fx/segment_integral.hpp"
 #include "scanline/scanline_fragments.hpp"
 #include "scanline/scanline_frame.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace scanline {
 
 // A vertex as the scan converter uses it: q is the scalar times w (perspective-correct).
@@ -1318,4 +1318,4 @@ ScanlineRenderer::ScanlineRenderer(ScanlineRenderer&& other) noexcept
     spare_ = std::move(other.spare_);
 }
 
-} // namespace fx
+} // namespace cellfx::fx

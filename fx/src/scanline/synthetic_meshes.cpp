@@ -1,5 +1,5 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §4.1 and Table 3 (data-set dimensions)
-#include "fx/synthetic_meshes.hpp"
+#include "scanline/synthetic_meshes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 #include <glm/trigonometric.hpp>
 
 #include "fx/error.hpp"
-#include "fx/tetrahedralize.hpp"
+#include "mesh/tetrahedralize.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 void append_curvilinear_block(CellMesh& mesh, const std::string& name, std::array<std::uint32_t, 3> dims,
                               const std::function<glm::dvec3(double u, double v, double w)>& map) {
@@ -134,4 +134,4 @@ CellMesh make_curved_duct(std::size_t cells, bool tetrahedra) {
     return tetrahedra ? tetrahedralize(mesh) : mesh;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -31,7 +31,7 @@
 #include "fx/resource_limits.hpp"
 #include "frame_storage.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 using Projection = ExteriorProjection;
 
 namespace {
@@ -362,4 +362,4 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
                            out.memory_bytes();
 }
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

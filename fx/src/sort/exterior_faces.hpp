@@ -13,10 +13,10 @@
 #include "face_graph.hpp"
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/visibility_sort.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 
 // A boundary triangle projected for one view, clipped to the near plane.
 struct ExteriorProjection {
@@ -57,4 +57,4 @@ private:
     mutable std::vector<std::uint32_t> tile_first_[2], tile_items_[2], big_front_, big_back_, cursor_;
 };
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

@@ -25,7 +25,7 @@
 #include "fx/error.hpp"
 #include "frame_storage.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 namespace {
 
 using clock_type = std::chrono::steady_clock;
@@ -285,4 +285,4 @@ void FaceGraph::sort(const Camera& camera, const ExteriorEdges* exterior, std::v
                            path.capacity() * sizeof(std::uint32_t);
 }
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

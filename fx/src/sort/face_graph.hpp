@@ -20,10 +20,10 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "fx/visibility_sort.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 
 // Per view: extra directed edges "source is drawn before target" between cells that share no
 // face (XMPVO). Built by ExteriorEdges::build(); empty for MPVO.
@@ -71,4 +71,4 @@ private:
     mutable std::vector<std::uint32_t> path_; // a cycle's walk
 };
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

@@ -14,7 +14,7 @@
 
 #include <glm/geometric.hpp>
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 namespace {
 
 using clock_type = std::chrono::steady_clock;
@@ -113,4 +113,4 @@ std::size_t KeySort::memory_bytes() const {
     return centroids_.capacity() * sizeof(glm::dvec3) + spheres_.capacity() * sizeof(glm::dvec4);
 }
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

@@ -16,7 +16,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/visibility_sort.hpp"
 
-namespace fx::sort_detail {
+namespace cellfx::fx::sort_detail {
 
 class KeySort {
 public:
@@ -39,4 +39,4 @@ private:
     mutable std::vector<std::pair<double, std::uint32_t>> keyed_;
 };
 
-} // namespace fx::sort_detail
+} // namespace cellfx::fx::sort_detail

@@ -11,10 +11,10 @@
 #include "exterior_faces.hpp"
 #include "face_graph.hpp"
 #include "fx/error.hpp"
-#include "fx/face_topology.hpp"
+#include "mesh/face_topology.hpp"
 #include "key_sort.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 void check_vertex_indices(const CellMesh& mesh) {
@@ -116,4 +116,4 @@ std::size_t VisibilitySort::memory_bytes() const {
 
 std::size_t VisibilitySort::boundary_triangle_count() const { return exterior_ ? exterior_->triangle_count() : 0; }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -26,7 +26,7 @@
 #include "fx/error.hpp"
 #include "transfer/special_functions.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 struct Sample {
@@ -358,4 +358,4 @@ PreintegrationTable build_preintegration_table(const TransferFunction& tf, std::
     return table;
 }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -10,7 +10,7 @@
 #include <array>
 #include <cmath>
 
-namespace fx::detail {
+namespace cellfx::fx::detail {
 
 inline constexpr double kInvSqrtPi = 0.56418958354775628695; // 1/√π
 inline constexpr double kSqrtPi = 1.77245385090551602730;    // √π
@@ -78,4 +78,4 @@ inline double dawson(double x) {
     return kInvSqrtPi * std::exp(-xp * xp) * sum;
 }
 
-} // namespace fx::detail
+} // namespace cellfx::fx::detail

@@ -15,7 +15,7 @@
 #include "fx/error.hpp"
 #include "io/input_file.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 namespace {
 
 std::string number(double v) {
@@ -205,4 +205,4 @@ glm::dvec3 TransferFunction::color(double s) const { return evaluate(points_, s)
 
 double TransferFunction::sigma(double s) const { return evaluate(points_, s).sigma; }
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -4,7 +4,7 @@
 // projecting convex cells (Roettger & Ertl 2003) into the game's own OpenGL 4.5 context,
 // framebuffer and depth buffer. Link cellfx::cellfx (CMake: add_subdirectory, FetchContent or
 // find_package(cellfx); or pkg-config cellfx); everything here is in namespace cellfx, with the
-// types it uses from fx:: and terrain:: (their headers say more).
+// types it uses from cellfx::fx and cellfx::terrain (their headers say more).
 //
 // STEP BY STEP
 // ============

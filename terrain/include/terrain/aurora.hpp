@@ -13,7 +13,7 @@
 
 #include "terrain/height_field.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // Procedural curtains: `count` bands running along x, each a Gaussian ridge of width `width`
 // across y whose centre line wanders by `wander` (a smooth generator of x and the band index
@@ -44,4 +44,4 @@ struct AuroraLayer {
 };
 AuroraLayer make_aurora_layer(const HeightField& penetration_depth, double ceiling);
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -49,7 +49,7 @@
 #include "fx/camera.hpp"
 #include "terrain/height_field.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 struct LodSettings {
     // Röttger's C (> 1): nodes closer than C times their size are always split, whatever
@@ -147,4 +147,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -27,7 +27,7 @@
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 enum class LayerDensity { LayerHeight, Noise, LowerBorder };
 
@@ -74,4 +74,4 @@ private:
 HeightField make_valley_fog_map(const HeightField& ground, double level, double max_thickness,
                                 const HeightGenerator& modulation = {}, double radius = 0.0);
 
-} // namespace terrain
+} // namespace cellfx::terrain

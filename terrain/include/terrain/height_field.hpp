@@ -19,7 +19,7 @@
 
 #include <glm/vec2.hpp>
 
-namespace terrain {
+namespace cellfx::terrain {
 
 struct HeightField {
     int size = 0;            // samples per side, 2^n + 1
@@ -84,4 +84,4 @@ HeightField make_height_field_like(const HeightField& like, const HeightGenerato
 // Throws fx::Error("<what>: ...") unless `a` and `b` have the same size, spacing and origin.
 void require_same_grid(const HeightField& a, const HeightField& b, const std::string& what);
 
-} // namespace terrain
+} // namespace cellfx::terrain

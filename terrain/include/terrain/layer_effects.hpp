@@ -22,7 +22,7 @@
 #include "terrain/fog_layer.hpp"
 #include "terrain/terrain_lod.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // The view volume prisms were culled to: the camera's, widened by a few degrees every way, so a
 // camera that turns a little (or moves without changing the LOD) keeps its prisms.
@@ -110,4 +110,4 @@ private:
     LodStats lod_stats_;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -76,7 +76,7 @@
 #include "terrain/height_field.hpp"
 #include "terrain/surface_renderer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // Fractal 2-D noise as scenes describe it: offset + amplitude · fbm(frequency·(x, y)).
 struct NoiseSpec {
@@ -187,4 +187,4 @@ Scene load_scene(const std::string& path);
 // The same from text; `source` names it in messages, `base_dir` resolves relative file names.
 Scene parse_scene(std::string_view json, const std::string& source, const std::string& base_dir);
 
-} // namespace terrain
+} // namespace cellfx::terrain

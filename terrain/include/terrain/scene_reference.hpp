@@ -17,7 +17,7 @@
 #include "fx/image.hpp"
 #include "terrain/scene_renderer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // Premultiplied RGBA, bottom row first: colour and alpha = 1 − transmittance of the volumes
 // (composite it over the background with fx::composite_over). `threads` 0: all cores. The
@@ -25,4 +25,4 @@ namespace terrain {
 fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera& camera, int width, int height,
                                  unsigned threads = 0);
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -41,14 +41,14 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/effect.hpp"
 #include "fx/image.hpp"
-#include "fx/medium_compositor.hpp"
+#include "fx/medium.hpp"
 #include "fx/parallel_for.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/surface_renderer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // What update() did with an effect this frame.
 enum class EffectStatus {
@@ -252,4 +252,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -26,7 +26,7 @@
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 struct SurfaceStyle {
     glm::dvec3 sun_direction{-0.45, -0.35, 0.82}; // towards the sun (normalised when used)
@@ -64,4 +64,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -17,7 +17,7 @@
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 class TerrainLod {
 public:
@@ -45,4 +45,4 @@ private:
     double update_ms_ = 0.0, extract_ms_ = 0.0;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

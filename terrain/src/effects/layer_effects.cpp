@@ -11,7 +11,7 @@
 
 #include "fx/error.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -157,4 +157,4 @@ fx::EffectChanges Aurora::simulate(const fx::EffectView& view) {
     return changes;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

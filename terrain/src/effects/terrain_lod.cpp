@@ -3,7 +3,7 @@
 #include <chrono>
 #include <utility>
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -51,4 +51,4 @@ void TerrainLod::reset() {
     last_view_.reset();
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -8,7 +8,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -104,4 +104,4 @@ void require_same_grid(const HeightField& a, const HeightField& b, const std::st
     if (a.origin != b.origin) throw fx::Error(what + ": its origin differs from the terrain's");
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

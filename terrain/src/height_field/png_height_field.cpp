@@ -11,7 +11,7 @@
 #include "io/input_file.hpp"
 #include "terrain/height_field.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -146,4 +146,4 @@ HeightField parse_height_field_png(const std::vector<char>& bytes, const std::st
     return field;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -16,7 +16,7 @@
 
 #include "fx/error.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -649,4 +649,4 @@ float ContinuousLod::morphed_thickness(int i, int j) const {
     return impl_->layer ? impl_->verts[impl_->id(i, j)].t : 0.0f;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

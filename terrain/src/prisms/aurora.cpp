@@ -7,7 +7,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 HeightField make_aurora_depth(int size, double spacing, glm::dvec2 origin, const AuroraCurtains& c,
                               const std::function<double(double x, int band)>& wave,
@@ -57,4 +57,4 @@ AuroraLayer make_aurora_layer(const HeightField& penetration_depth, double ceili
     return layer;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

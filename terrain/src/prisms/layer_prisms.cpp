@@ -11,7 +11,7 @@
 #include "fx/error.hpp"
 #include "terrain/fog_layer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& options, LayerPrismStats* stats) {
     fx::CellMesh out;
@@ -139,4 +139,4 @@ HeightField make_valley_fog_map(const HeightField& ground, double level, double 
     return fog;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

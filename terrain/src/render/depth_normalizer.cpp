@@ -9,7 +9,7 @@
 #include "gl/gl_check.hpp"
 #include "render/terrain_shaders.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -170,4 +170,4 @@ GLuint DepthNormalizer::normalized(GLuint texture, const DepthConvention& conven
     return depth_.id();
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

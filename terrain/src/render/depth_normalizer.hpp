@@ -17,7 +17,7 @@
 #include "gl/gl_object.hpp"
 #include "terrain/scene_renderer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // canonical depth = map.x + map.y · game depth for `camera` (both affine in 1/z, or in z for an
 // orthographic camera). Throws fx::Error for a convention that cannot describe a projection
@@ -58,4 +58,4 @@ private:
     TextureInfo info_;
 };
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -6,7 +6,7 @@
 #include <cmath>
 
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -65,4 +65,4 @@ void plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camer
     }
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

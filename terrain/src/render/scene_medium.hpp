@@ -1,16 +1,16 @@
 // cellfx terrain — where a scene's volumes must be integrated as one medium: the screen region
 // in which an absorbing volume overlaps another volume (or a point light's reach), planned on
 // the CPU from the volumes' world bounds alone, so a frame whose volumes do not overlap on
-// screen costs nothing more (fx/medium_compositor.hpp does the work inside the region).
+// screen costs nothing more (medium/medium_compositor.hpp does the work inside the region).
 #pragma once
 
 #include <vector>
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
-#include "fx/medium_compositor.hpp"
+#include "medium/medium_compositor.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // One volume that may take part (an effect drawn with a path of the emission–absorption model).
 struct MediumCandidate {
@@ -37,4 +37,4 @@ struct MediumPlan {
 void plan_medium(const std::vector<MediumCandidate>& candidates, const fx::Camera& camera, int width, int height,
                  MediumPlan& plan);
 
-} // namespace terrain
+} // namespace cellfx::terrain

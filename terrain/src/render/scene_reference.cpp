@@ -7,7 +7,7 @@
 
 #include "fx/scanline_renderer.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -68,4 +68,4 @@ fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera
     return image;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -26,7 +26,7 @@
 #include "terrain/layer_effects.hpp"
 #include "terrain/terrain_lod.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -855,4 +855,4 @@ const fx::CellMesh& SceneRenderer::aurora_prisms() const {
     return impl_->aurora ? impl_->aurora->mesh() : impl_->no_prisms;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -15,7 +15,7 @@
 #include "gl/state_guard.hpp"
 #include "render/terrain_shaders.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -165,4 +165,4 @@ SurfaceStats SurfaceRenderer::draw(const LodMesh& mesh, const fx::Camera& camera
     return stats;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

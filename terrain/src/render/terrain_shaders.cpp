@@ -1,11 +1,11 @@
 #include "render/terrain_shaders.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 // Generated from the shader list in terrain/CMakeLists.txt (build tree: terrain_embedded_shaders.cpp).
 const EmbeddedShader* terrain_embedded_shaders(std::size_t& count);
-} // namespace fx::gl
+} // namespace cellfx::fx::gl
 
-namespace terrain {
+namespace cellfx::terrain {
 
 const fx::gl::ShaderLibrary& terrain_shaders() {
     static const fx::gl::ShaderLibrary library = [] {
@@ -18,4 +18,4 @@ const fx::gl::ShaderLibrary& terrain_shaders() {
     return library;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -4,9 +4,9 @@
 
 #include "gl/shader_library.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 // Process-wide, immutable; built on first use.
 const fx::gl::ShaderLibrary& terrain_shaders();
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -5,7 +5,7 @@
 
 #include "terrain/scene.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 const char* effect_type_name(const EffectParams& params) {
     struct Name {
@@ -61,4 +61,4 @@ fx::Camera CameraPath::at(double t, const fx::Camera& base) const {
     return cam;
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -7,7 +7,7 @@
 #include "fx/noise.hpp"
 #include "terrain/scene.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 HeightGenerator make_noise_generator(const NoiseSpec& spec) {
     if (!(spec.frequency > 0.0) || !std::isfinite(spec.frequency)) throw fx::Error("noise: frequency must be positive");
@@ -29,4 +29,4 @@ HeightGenerator make_noise_generator(const NoiseSpec& spec) {
     };
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

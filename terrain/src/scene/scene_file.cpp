@@ -17,7 +17,7 @@
 #include "io/input_file.hpp"
 #include "terrain/scene.hpp"
 
-namespace terrain {
+namespace cellfx::terrain {
 
 namespace {
 
@@ -680,4 +680,4 @@ Scene load_scene(const std::string& path) {
     return parse_scene(std::string_view(text.data(), text.size()), path, std::filesystem::path(path).parent_path().string());
 }
 
-} // namespace terrain
+} // namespace cellfx::terrain

@@ -9,7 +9,7 @@
 
 #include "fx/resource_limits.hpp"
 
-namespace fx::io {
+namespace cellfx::fx::io {
 
 // Looks at the first bytes of an input (up to 4 KiB, fewer if the input is shorter) and
 // throws fx::Error if they cannot start a file of the expected kind, so that a device such as
@@ -30,4 +30,4 @@ std::vector<char> read_input_file(const std::string& path, Limit budget, const c
 // encoding, not a syntax error at byte 1. A HeadCheck for JSON inputs.
 void check_json_encoding(std::string_view text, const std::string& source);
 
-} // namespace fx::io
+} // namespace cellfx::fx::io

@@ -22,7 +22,7 @@
 #include "fx/error.hpp"
 #include "gl/gl_check.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 // Traits: `static GLuint create(Args...)`, `static void destroy(GLuint)`, `static const char* kind`.
 template <class Traits>
@@ -175,4 +175,4 @@ Texture make_texture_2d(GLenum internal_format, int width, int height, int level
 // A renderbuffer with storage (glNamedRenderbufferStorage).
 Renderbuffer make_renderbuffer(GLenum internal_format, int width, int height);
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

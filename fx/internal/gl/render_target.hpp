@@ -15,7 +15,7 @@
 #include "fx/image.hpp"
 #include "gl/gl_object.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 enum class ColorFormat { RGBA8, RGBA16F, RGBA32F };
 GLenum internal_format(ColorFormat format); // GL_RGBA8, ...
@@ -54,4 +54,4 @@ private:
     Texture depth_;
 };
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

@@ -27,9 +27,9 @@
 #include <glm/vec2.hpp>
 
 #include "fx/cell_mesh.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Tile runs, one per tile row a cell touches: tiles [first, last] of row `row`.
 struct TileSpan {
@@ -67,4 +67,4 @@ std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std
 std::uint32_t batch_footprints(const CellFootprints& footprints, std::vector<std::uint32_t>& batch_of,
                                std::vector<std::uint64_t>& masks);
 
-} // namespace fx
+} // namespace cellfx::fx

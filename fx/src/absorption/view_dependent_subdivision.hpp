@@ -34,7 +34,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 class ViewDependentSubdivision {
 public:
@@ -81,4 +81,4 @@ private:
     std::vector<std::uint8_t> piece_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -13,11 +13,13 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/mesh_validation.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct FaceTopology {
     static constexpr std::uint32_t kBoundary = 0xFFFFFFFFu;
@@ -52,4 +54,17 @@ struct FaceTopologyScratch {
 // been seen.
 void build_face_topology(const CellMesh& mesh, FaceTopology& out, FaceTopologyScratch& scratch);
 
-} // namespace fx
+// Two cells of one block that overlap: `cell` lies on the same side of a face it shares with
+// `other` (other < cell), or has the same points (duplicate). Found from the face topology
+// (faces matched by point ids), so cells that overlap without sharing points are not listed;
+// the scan-line renderer finds those along its rays.
+struct CellOverlap {
+    std::uint32_t other, cell;
+    bool duplicate;
+};
+std::vector<CellOverlap> find_overlapping_cells(const CellMesh& mesh, const FaceTopology& topology,
+                                                const std::vector<CellShape>& shapes);
+// "cell 5 has the same points as cell 2" / "cells 2 and 5 lie on the same side of their shared face".
+std::string describe_overlap(const CellOverlap& overlap);
+
+} // namespace cellfx::fx

@@ -16,7 +16,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 constexpr int kMaxCellTetrahedra = 6;
 
@@ -28,4 +28,4 @@ int subdivide_cell(CellType type, const std::uint32_t* vertices, std::uint32_t o
 // remapped). If parent_cell is given it receives, per output tetrahedron, its source cell.
 CellMesh tetrahedralize(const CellMesh& mesh, std::vector<std::uint32_t>* parent_cell = nullptr);
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -45,7 +45,7 @@
 #include "fx/cell_renderer.hpp"
 #include "fx/medium.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct PixelRect {
     int x = 0, y = 0, width = 0, height = 0; // in the viewport's pixels
@@ -56,17 +56,6 @@ struct PixelRect {
 // on each side; the whole view when the box reaches behind the near plane; empty when it is
 // outside the view.
 PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int height);
-
-struct MediumStats {
-    std::size_t pixels = 0;         // in the region
-    std::size_t segments = 0;       // appended this frame
-    std::size_t capacity = 0;       // of the segment pool (segments)
-    std::size_t redraws = 0;        // appends repeated after the pool overflowed
-    std::size_t volumes = 0;        // appended this frame
-    double cpu_ms = 0.0;            // of append() and resolve() together
-    double gpu_ms = -1.0;           // GL_TIME_ELAPSED of appends and resolve (with timing)
-    double append_gpu_ms = -1.0, resolve_gpu_ms = -1.0; // its two parts
-};
 
 class MediumCompositor {
 public:
@@ -104,4 +93,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

@@ -38,7 +38,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 struct ProjectorGeometry {
     glm::dvec3 origin{0.0};                  // positions are relative to this point
@@ -130,4 +130,4 @@ bool append_near_cap(const ProjectorGeometry& geometry, const ProjectorView& vie
 void build_near_caps(const ProjectorGeometry& geometry, const ProjectorView& view, const ProjectedCells& projected,
                      NearCaps& caps);
 
-} // namespace fx
+} // namespace cellfx::fx

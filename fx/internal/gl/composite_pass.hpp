@@ -16,7 +16,7 @@
 #include "gl/gl_object.hpp"
 #include "gl/shader_library.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 class CompositePass {
 public:
@@ -38,4 +38,4 @@ private:
     VertexArray empty_vao_;
 };
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

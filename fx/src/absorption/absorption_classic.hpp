@@ -45,11 +45,11 @@
 #include <glm/vec4.hpp>
 
 #include "fx/cell_mesh.hpp"
-#include "fx/polyhedron_projector.hpp"
-#include "fx/projected_subdivision.hpp"
+#include "projector/polyhedron_projector.hpp"
+#include "absorption/projected_subdivision.hpp"
 #include "fx/transfer_function.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // The 2-D opacity texture of §II: texel (i, j) holds 1 − exp(−K·u_i·v_j) with
 // u_i = i/(size − 1), v_j = j/(size − 1) and K = max_product, the largest optical depth l·τ_a
@@ -124,4 +124,4 @@ private:
     std::vector<glm::dvec3> color_;
 };
 
-} // namespace fx
+} // namespace cellfx::fx

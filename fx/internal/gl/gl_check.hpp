@@ -9,7 +9,7 @@
 
 #include <epoxy/gl.h>
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 // "GL_INVALID_ENUM", ..., or "GL error 0x1234".
 const char* gl_error_name(GLenum error);
@@ -18,10 +18,10 @@ const char* gl_error_name(GLenum error);
 // anything; the flag may also come from an earlier, unchecked call, and the message says so.
 void check_gl_errors(const char* call, const char* file, int line);
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl
 
 #if !defined(NDEBUG) || defined(CELLFX_GL_CHECKS)
-#define FX_GL_CHECK(call) ::fx::gl::check_gl_errors(call, __FILE__, __LINE__)
+#define FX_GL_CHECK(call) ::cellfx::fx::gl::check_gl_errors(call, __FILE__, __LINE__)
 #else
 #define FX_GL_CHECK(call) ((void)0)
 #endif

@@ -27,7 +27,7 @@
 
 #include "gl/gl_object.hpp"
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 // One embedded file, as the generated .cpp lists it.
 struct EmbeddedShader {
@@ -99,4 +99,4 @@ private:
     std::map<std::string, Entry, std::less<>> entries_;
 };
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

@@ -48,9 +48,9 @@
 #include <glm/vec3.hpp>
 
 #include "fx/camera.hpp"
-#include "fx/polyhedron_projector.hpp"
+#include "projector/polyhedron_projector.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // The camera as the subdivision sees it.
 struct ProjectionFrame {
@@ -138,4 +138,4 @@ private:
 void clip_polyhedron(const ConvexPolyhedron& in, const std::vector<double>& f, const glm::dvec3& increasing,
                      ConvexPolyhedron& out, double cut_scalar = std::numeric_limits<double>::quiet_NaN());
 
-} // namespace fx
+} // namespace cellfx::fx

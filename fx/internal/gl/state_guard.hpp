@@ -37,7 +37,7 @@
 
 #include <epoxy/gl.h>
 
-namespace fx::gl {
+namespace cellfx::fx::gl {
 
 class StateGuard {
 public:
@@ -106,4 +106,4 @@ private:
     std::array<GLint, 6> unpack_{}; // the same + skip images
 };
 
-} // namespace fx::gl
+} // namespace cellfx::fx::gl

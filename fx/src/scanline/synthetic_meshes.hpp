@@ -19,7 +19,7 @@
 
 #include "fx/cell_mesh.hpp"
 
-namespace fx {
+namespace cellfx::fx {
 
 // Appends a block of (ni−1)(nj−1)(nk−1) hexahedra; node (i, j, k) is at
 // map(i/(ni−1), j/(nj−1), k/(nk−1)). Every dimension must be ≥ 2 (throws fx::Error).
@@ -46,4 +46,4 @@ CellMesh make_nine_grid_mesh(double resolution = 1.0);
 // about `cells` cells (at least 6 tetrahedra or 1 hexahedron).
 CellMesh make_curved_duct(std::size_t cells, bool tetrahedra);
 
-} // namespace fx
+} // namespace cellfx::fx
