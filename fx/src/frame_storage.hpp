@@ -12,7 +12,7 @@
 #include <iterator>
 #include <vector>
 
-namespace fx {
+namespace cellfx::fx {
 
 template <class T>
 void reserve_kept(std::vector<T>& v, std::size_t n) {
@@ -37,4 +37,4 @@ void assign_range_kept(std::vector<T>& v, Iterator first, Iterator last) {
     v.assign(first, last);
 }
 
-} // namespace fx
+} // namespace cellfx::fx
