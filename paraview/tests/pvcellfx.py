@@ -305,3 +305,15 @@ def compare(name, actual, expected, tolerance, write_images=True):
         write_png(np.minimum(delta * 10.0, 1.0), stem + "_diff.png")
         report += " -> images in " + OUT
     return ok, report
+
+
+failures = []  # the reports of the checks that failed in this process
+
+
+def check(ok_report):
+    """Prints one check's (ok, report) and keeps the report if it failed; returns ok."""
+    ok, report = ok_report
+    print(("ok    " if ok else "FAIL  ") + report, flush=True)
+    if not ok:
+        failures.append(report)
+    return ok

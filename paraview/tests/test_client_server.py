@@ -34,10 +34,10 @@ def main():
         pc.compare("client/server lox absorption-exact vs scan-line", image,
                    pc.read_pfm(pc.out("scanline_lox_absorption.pfm")), pc.mpi_tolerance("absorption-exact", False)),
     ]
-    for ok, report in results:
-        print(("ok    " if ok else "FAIL  ") + report, flush=True)
+    for result in results:
+        pc.check(result)
     simple.Disconnect()
-    if not all(ok for ok, _ in results):
+    if pc.failures:
         sys.exit(1)
     print("all checks passed")
 

@@ -23,14 +23,6 @@ import pvcellfx as pc  # noqa: E402
 from paraview import simple  # noqa: E402
 
 W, H = pc.IMAGE_SIZE
-failures = []
-
-
-def check(ok_report):
-    ok, report = ok_report
-    print(("ok    " if ok else "FAIL  ") + report, flush=True)
-    if not ok:
-        failures.append(report)
 
 
 def main():
@@ -45,7 +37,7 @@ def main():
         display.CellfxRenderPath = path
         image = pc.screenshot(view, pc.out("one_rank_lox_%s.png" % path), W, H)
         reference = pc.scanline_reference(pc.out("scanline_lox_%s.pfm" % pc.MODEL[path]), W, H, model=pc.MODEL[path])
-        check(pc.compare("one rank %s vs scan-line" % path, image, reference, pc.PATH_TOLERANCE[path]))
+        pc.check(pc.compare("one rank %s vs scan-line" % path, image, reference, pc.PATH_TOLERANCE[path]))
 
     # The mesh was converted once for all those frames; a new camera and a new opacity function
     # do not convert it again, a moved actor does.
@@ -60,7 +52,7 @@ def main():
     display.Position = [0.0, 0.0, 0.25]
     simple.Render(view)
     after_move = pc.mesh_conversions(display)
-    check((conversions == 1 and after_view_and_function == 1 and after_move == 2,
+    pc.check((conversions == 1 and after_view_and_function == 1 and after_move == 2,
            "mesh conversions: %d after 4 paths, %d after a new camera and opacity function, %d after moving "
            "the actor (expected 1, 1, 2)" % (conversions, after_view_and_function, after_move)))
     display.Position = [0.0, 0.0, 0.0]
@@ -76,7 +68,7 @@ def main():
     for path in ("absorption-exact", "absorption"):
         seam_display.CellfxRenderPath = path
         image = pc.screenshot(view, pc.out("one_rank_seam_%s.png" % path), W, H)
-        check(pc.compare("one rank seam mesh %s vs scan-line" % path, image, reference, pc.PATH_TOLERANCE[path]))
+        pc.check(pc.compare("one rank seam mesh %s vs scan-line" % path, image, reference, pc.PATH_TOLERANCE[path]))
     simple.Hide(seam, view)
 
     # Opaque geometry stops the volume: whole mesh + plane == clipped mesh + plane.
@@ -88,7 +80,7 @@ def main():
     clipped = pc.clip_in_front_of_plane(reader)
     pc.show_volume(clipped, view)
     front = pc.screenshot(view, pc.out("depth_clipped_mesh.png"), W, H)
-    check(pc.compare("stopped by an opaque plane vs clipped at it", whole, front, pc.DEPTH_TOLERANCE))
+    pc.check(pc.compare("stopped by an opaque plane vs clipped at it", whole, front, pc.DEPTH_TOLERANCE))
     simple.Hide(clipped, view)
     simple.Hide(plane, view)
 
@@ -98,10 +90,10 @@ def main():
     tiled = pc.screenshot(view, pc.out("tiles_2x2.png"), 2 * W, 2 * H)
     view.ViewSize = [2 * W, 2 * H]
     whole = pc.screenshot(view, pc.out("tiles_whole.png"), 2 * W, 2 * H)
-    check(pc.compare("2 x 2 tiles vs one piece", tiled, whole, pc.TILE_TOLERANCE))
+    pc.check(pc.compare("2 x 2 tiles vs one piece", tiled, whole, pc.TILE_TOLERANCE))
 
-    if failures:
-        print("%d check(s) failed" % len(failures))
+    if pc.failures:
+        print("%d check(s) failed" % len(pc.failures))
         sys.exit(1)
     print("all checks passed")
 

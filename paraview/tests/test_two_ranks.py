@@ -23,15 +23,6 @@ import pvcellfx as pc  # noqa: E402
 from paraview import simple  # noqa: E402
 
 W, H = pc.IMAGE_SIZE
-failures = []
-
-
-def check(ok_report):
-    ok, report = ok_report
-    print(("ok    " if ok else "FAIL  ") + report, flush=True)
-    if not ok:
-        failures.append(report)
-    return ok
 
 
 def cells_drawn(display):
@@ -61,10 +52,10 @@ def main():
             display.CellfxRenderPath = path
             image = pc.screenshot(view, pc.out("two_ranks_%s_%s.png" % (name, path)), W, H)
             drawn = cells_drawn(display)
-            check((0 < drawn < cells, "%s %s: rank 0 drew %d cells (pieces) of the %d" % (name, path, drawn, cells)))
+            pc.check((0 < drawn < cells, "%s %s: rank 0 drew %d cells (pieces) of the %d" % (name, path, drawn, cells)))
             expected = one_rank if path == "absorption-exact" else pc.read_png(pc.out("one_rank_%s_absorption.png" % name))
-            check(pc.compare("two ranks %s %s vs one rank" % (name, path), image, expected, pc.mpi_tolerance(path, True)))
-            check(pc.compare("two ranks %s %s vs scan-line" % (name, path), image, reference,
+            pc.check(pc.compare("two ranks %s %s vs one rank" % (name, path), image, expected, pc.mpi_tolerance(path, True)))
+            pc.check(pc.compare("two ranks %s %s vs scan-line" % (name, path), image, reference,
                              pc.mpi_tolerance(path, False)))
         if name == "seam":
             # For comparison (not a check): boundary cells given whole to one rank, as ParaView's
@@ -77,8 +68,8 @@ def main():
             display.CellfxSplitBoundaryCells = 1
         simple.Hide(reader, view)
 
-    if failures:
-        print("%d check(s) failed" % len(failures))
+    if pc.failures:
+        print("%d check(s) failed" % len(pc.failures))
         sys.exit(1)
     print("all checks passed")
 
