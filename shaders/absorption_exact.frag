@@ -7,7 +7,9 @@
 // planes, clamped to the near plane — so a camera inside the mesh composites only what lies
 // ahead — and to the scene's surface where one is given); colour and opacity come from the
 // pre-integration table over (s_front, s_back, length) built by fx::build_preintegration_table
-// from the exact integrals, interpolated trilinearly here in full float. Output premultiplied,
+// from the exact integrals, as M and mean extinction σ̄ (fx::PreintegrationTable) interpolated
+// trilinearly here in full float: τ = σ̄·l is then exact along l, alpha = 1 − e^−τ, colour =
+// M·alpha/σ̄ (a short segment through dense matter stays opaque). Output premultiplied,
 // into a float target with glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA).
 #include "project.glsl"
 #include "cell_segment.glsl"
@@ -37,5 +39,10 @@ vec4 preintegrated(float s_front, float s_back, float l) {
 
 void main() {
     CellSegment segment = cell_segment(fragment_ray(gl_FragCoord.xy));
-    o_color = preintegrated(segment.s_in, segment.s_out, segment.length);
+    vec4 entry = preintegrated(segment.s_in, segment.s_out, segment.length); // M, σ̄
+    float tau = entry.a * segment.length;
+    // alpha/σ̄ = (1 − e^−τ)/σ̄: l·(1 − τ/2 + τ²/6) for small τ (no cancellation, and σ̄ may be 0
+    // there); e^−τ underflows to 0 for huge τ, leaving 1/σ̄.
+    float alpha_per_sigma = tau < 1e-3 ? segment.length * (1.0 - tau * (0.5 - tau / 6.0)) : (1.0 - exp(-tau)) / entry.a;
+    o_color = vec4(entry.rgb * alpha_per_sigma, entry.a * alpha_per_sigma);
 }

@@ -513,12 +513,12 @@ TEST_CASE("cumulative emission and the emission table", "[transfer]") {
     CHECK(flat.cumulative[2].x == Approx(0.5));
 }
 
-TEST_CASE("pre-integration table entries are emission_absorption at the sample points", "[transfer]") {
+TEST_CASE("pre-integration table entries are emission_absorption's mean colour and extinction at the sample points", "[transfer]") {
     const fx::TransferFunction tf({{0.0, dvec3(1, 0, 0), 0.5}, {0.4, dvec3(1, 1, 0), 5.0}, {0.4, dvec3(0, 0, 1), 0.1},
                                    {1.0, dvec3(1, 1, 1), 2.0}});
     const std::size_t n_s = 17, n_l = 5;
     const fx::PreintegrationTable t = fx::build_preintegration_table(tf, n_s, n_l, 2.0);
-    REQUIRE(t.rgba.size() == n_s * n_s * n_l);
+    REQUIRE(t.entries.size() == n_s * n_s * n_l);
     CHECK(t.n_s == n_s);
     CHECK(t.n_l == n_l);
     CHECK(t.max_length == 2.0);
@@ -526,10 +526,18 @@ TEST_CASE("pre-integration table entries are emission_absorption at the sample p
         for (std::size_t ib = 0; ib < n_s; ib += 3)
             for (std::size_t i_f = 0; i_f < n_s; i_f += 2) {
                 const double sf = i_f / 16.0, sb = ib / 16.0, l = 2.0 * il / 4.0;
+                const glm::vec4 got = t.entries[(il * n_s + ib) * n_s + i_f];
+                // What a reader forms from the entry: τ = σ̄·l, alpha, colour = M·alpha/σ̄.
+                const double sigma_mean = fx::emission_absorption(tf, sf, sb, 1.0).optical_depth;
+                CHECK(near(got.a, sigma_mean, 1e-6, 0.0));
+                if (il == 0) {
+                    CHECK(near(dvec3(got), fx::emission_integral(tf, sf, sb, 1.0), 1e-6, 0.0));
+                    continue;
+                }
                 const fx::SegmentColor want = fx::emission_absorption(tf, sf, sb, l);
-                const glm::vec4 got = t.rgba[(il * n_s + ib) * n_s + i_f];
-                CHECK(near(dvec3(got), want.color, 1e-6, 0.0));
-                CHECK(near(got.a, want.alpha, 1e-6, 0.0));
+                const double alpha = 1.0 - std::exp(-double(got.a) * l);
+                CHECK(near(alpha, want.alpha, 1e-6, 0.0));
+                CHECK(near(dvec3(got) * (alpha / double(got.a)), want.color, 1e-6, 0.0));
             }
     CHECK_THROWS_AS(fx::build_preintegration_table(tf, 1, 4, 1.0), fx::Error);
     CHECK_THROWS_AS(fx::build_preintegration_table(tf, 4, 4, 0.0), fx::Error);

@@ -73,13 +73,23 @@ EmissionTable build_emission_table(const TransferFunction& tf, std::size_t size)
 void build_emission_rows(const TransferFunction& tf, std::size_t size, std::vector<glm::vec4>& texels, double& s_lo,
                          double& s_hi);
 
-// Pre-integration table over (s_front, s_back, length), for the exact absorption path:
-// entry [(il * n_s + ib) * n_s + if] = emission_absorption(s_f, s_b, l) with s_f, s_b on
-// n_s samples of [s_lo, s_hi] and l on n_l samples of [0, max_length].
+// Pre-integration table over (s_front, s_back, length), for the exact absorption path: entry
+// [(il * n_s + ib) * n_s + if] describes emission_absorption(s_f, s_b, l) with s_f, s_b on n_s
+// samples of [s_lo, s_hi] and l on n_l samples of [0, max_length] as
+//   a   = the segment's mean extinction σ̄ = τ / l (the same for every l),
+//   rgb = M = σ̄·colour / alpha: at l = 0 its limit, the mean emission ∫c·σ ds / Δs; for a
+//         thin medium (τ → 0) M stays that mean, for a dense one colour / alpha tends to the
+//         front's colour.
+// A reader interpolates these and forms τ = σ̄·l, alpha = 1 − e^−τ, colour = M·alpha / σ̄
+// (= M·l for τ → 0). τ is linear in l, so its interpolation along l is exact and a short
+// segment through dense matter stays as opaque as it is: colour and alpha themselves rise
+// within the first length sample when σ is large, and interpolating them linearly there
+// would lose it. M ≤ (largest colour)·σ̄ at every sample, so the interpolated colour / alpha
+// stays a colour of the transfer function's.
 struct PreintegrationTable {
     double s_lo = 0.0, s_hi = 1.0, max_length = 1.0;
     std::size_t n_s = 0, n_l = 0;
-    std::vector<glm::vec4> rgba; // premultiplied colour, alpha
+    std::vector<glm::vec4> entries; // M, σ̄
 };
 PreintegrationTable build_preintegration_table(const TransferFunction& tf, std::size_t n_s, std::size_t n_l,
                                                double max_length);

@@ -184,12 +184,12 @@ void AbsorptionPass::ensure_preintegration_table() {
     const PreintegrationTable table = build_preintegration_table(tf, kPreScalars, kPreLengths, max_length_);
     // A buffer texture (absorption_exact.frag): (il·n_s + ib)·n_s + if.
     if (!preintegration_buffer_) {
-        preintegration_buffer_ = gl::make_buffer(GLsizeiptr(table.rgba.size() * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        preintegration_buffer_ = gl::make_buffer(GLsizeiptr(table.entries.size() * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
         preintegration_ = gl::Texture::create(GL_TEXTURE_BUFFER);
         glTextureBuffer(preintegration_.id(), GL_RGBA32F, preintegration_buffer_.id());
-        table_bytes_ += table.rgba.size() * sizeof(glm::vec4);
+        table_bytes_ += table.entries.size() * sizeof(glm::vec4);
     }
-    glNamedBufferSubData(preintegration_buffer_.id(), 0, GLsizeiptr(table.rgba.size() * sizeof(glm::vec4)), table.rgba.data());
+    glNamedBufferSubData(preintegration_buffer_.id(), 0, GLsizeiptr(table.entries.size() * sizeof(glm::vec4)), table.entries.data());
     FX_GL_CHECK("absorption: pre-integration table");
     s_lo_ = table.s_lo;
     s_per_unit_ = double(table.n_s - 1) / (table.s_hi - table.s_lo);

@@ -340,18 +340,30 @@ PreintegrationTable build_preintegration_table(const TransferFunction& tf, std::
     table.max_length = max_length;
     table.n_s = n_s;
     table.n_l = n_l;
-    table.rgba.resize(n_s * n_s * n_l);
+    table.entries.resize(n_s * n_s * n_l);
     const auto s_at = [&](std::size_t i) {
         return i + 1 == n_s ? table.s_hi
                             : table.s_lo + (table.s_hi - table.s_lo) * (static_cast<double>(i) / static_cast<double>(n_s - 1));
     };
-    for (std::size_t il = 0; il < n_l; ++il) {
+    // l = 0: the mean extinction σ̄ (kept in double for the other lengths) and emission.
+    std::vector<double> sigma_mean(n_s * n_s);
+    for (std::size_t ib = 0; ib < n_s; ++ib) {
+        for (std::size_t i_f = 0; i_f < n_s; ++i_f) {
+            const std::size_t k = ib * n_s + i_f;
+            sigma_mean[k] = emission_absorption(tf, s_at(i_f), s_at(ib), 1.0).optical_depth;
+            table.entries[k] = glm::vec4(glm::vec3(emission_integral(tf, s_at(i_f), s_at(ib), 1.0)), float(sigma_mean[k]));
+        }
+    }
+    for (std::size_t il = 1; il < n_l; ++il) {
         const double l = il + 1 == n_l ? max_length : max_length * (static_cast<double>(il) / static_cast<double>(n_l - 1));
         for (std::size_t ib = 0; ib < n_s; ++ib) {
-            const double sb = s_at(ib);
             for (std::size_t i_f = 0; i_f < n_s; ++i_f) {
-                const SegmentColor c = emission_absorption(tf, s_at(i_f), sb, l);
-                table.rgba[(il * n_s + ib) * n_s + i_f] = glm::vec4(glm::vec3(c.color), static_cast<float>(c.alpha));
+                const std::size_t k = ib * n_s + i_f;
+                const SegmentColor c = emission_absorption(tf, s_at(i_f), s_at(ib), l);
+                // Where alpha underflows (or σ is 0 throughout) M keeps its limit at l = 0.
+                glm::vec4& e = table.entries[il * n_s * n_s + k];
+                e = table.entries[k];
+                if (c.alpha > 0.0) e = glm::vec4(glm::vec3(c.color * (sigma_mean[k] / c.alpha)), e.a);
             }
         }
     }
