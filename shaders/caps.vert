@@ -30,5 +30,5 @@ void main() {
                            max(corner_scalars.x, max(corner_scalars.y, corner_scalars.z)));
     v_range = range;
     v_alpha = range.y > 0.0 ? clamp((0.0 - range.x) / range.y, 0.0, 1.0) : 0.0; // d = 0 on the near plane
-    v_color = emission_at(s).rgb * (0.5 * range.y);
+    v_color = min(emission_at(s).rgb * (0.5 * range.y), vec3(1e30)); // finite, as in cells.vert
 }

@@ -53,6 +53,8 @@ void main() {
     v_range = range;
     v_alpha = range.y > 0.0 ? clamp((d - range.x) / range.y, 0.0, 1.0) : 0.0;
     // Classic colour I = κ(S)·Δd/2 (§3); pcp.frag turns view depth into length along the ray.
-    v_color = emission_at(p.w).rgb * (0.5 * range.y);
+    // Its 8-bit target saturates at 1: bounded here so that a huge cell's colour is never Inf,
+    // which interpolation would turn into NaN (Inf·0).
+    v_color = min(emission_at(p.w).rgb * (0.5 * range.y), vec3(1e30));
 #endif
 }

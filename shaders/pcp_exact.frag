@@ -9,9 +9,18 @@
 #include "project.glsl"
 #include "cell_segment.glsl"
 
+// With fog, each cell's optical depth is capped here (PcpExactPass: 1e30, opaque many times
+// over, and far from a float's 3.4e38 even after hundreds of such cells are summed) and its
+// emission scaled alike, so that a huge extinction over a huge cell keeps the ratio the fog
+// resolve divides out instead of overflowing both to Inf; emission alone is not capped (+Inf),
+// and a sum past a float's range saturates in the resolve.
+layout(location = UNIFORM_MAX_OPTICAL_DEPTH) uniform float u_max_optical_depth;
+
 layout(location = 0) out vec4 o_color;
 
 void main() {
     CellSegment segment = cell_segment(fragment_ray(gl_FragCoord.xy));
-    o_color = segment_integral(segment.s_in, segment.s_out, segment.length);
+    vec4 per_length = segment_integral(segment.s_in, segment.s_out, 1.0); // linear in the length
+    float l = min(segment.length, u_max_optical_depth / max(per_length.a, 1e-30));
+    o_color = per_length * l;
 }

@@ -22,6 +22,8 @@ void main() {
     float opacity = tau * g;
     o_color = vec4(acc.rgb * g, opacity);
 #else
-    o_color = vec4(acc.rgb, 0.0);
+    // Emitted light has no upper bound: a sum past a float's range saturates at its largest
+    // value, as the scan-line renderer's does, rather than reaching the host as Inf.
+    o_color = vec4(min(acc.rgb, vec3(3.40282347e38)), 0.0);
 #endif
 }

@@ -76,9 +76,12 @@ vec4 segment_integral(float s_front, float s_back, float l) {
     vec4 mean0 = table(1, int(i0) + 1), mean1 = table(1, int(i1) + 1);
     // E(i1) − E(i0 + 1): the whole cells between the two ends (none for adjacent cells).
     vec4 middle = table(0, int(i1)) - table(0, int(max(i0 + 1.0, 0.0)));
-    // In units of x (samples): the partial cells, the whole ones (E per unit s times u_table.w).
-    vec4 total = mean0 * (i0 + 1.0 - x0) + middle * u_table.w + mean1 * (x1 - i1);
-    return i0 == i1 ? mean0 * l : total * (l / (x1 - x0));
+    // In units of x (samples): the partial cells, the whole ones (E per unit s times u_table.w),
+    // each weighted by l/(x1 − x0) before the sum: an end far beyond the table (a held value
+    // times a huge run) would overflow the sum, while its share of l cannot.
+    float per_x = l / (x1 - x0);
+    vec4 total = mean0 * ((i0 + 1.0 - x0) * per_x) + (middle * u_table.w) * per_x + mean1 * ((x1 - i1) * per_x);
+    return i0 == i1 ? mean0 * l : total;
 }
 
 // ---- scene depth ----------------------------------------------------------------------------

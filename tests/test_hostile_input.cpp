@@ -360,6 +360,52 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         require_accepted(run_cellfx(scanline(write_vtk("huge_box.vtk", huge_box), out, {"--tf", big, "--model", "emission"})));
         CHECK(all_finite(out));
     }
+    SECTION("extinction 1e31 over a box of 1e17 on every GPU path: finite, and the reference's picture") {
+        // One colour, so the fog model is exact too. Over the box's field (1 to 2e17 + 1) it holds
+        // its last value, 1e31 per unit: c·σ over the table's range [0, 1] fits a float.
+        const std::string big = write("sigma_held.json", R"({"points": [[0, 1, 0.5, 0.2, 1e30], [1, 1, 0.5, 0.2, 1e31]]})");
+        fx::CellMesh huge_box = fx_test::hex_box(2, 1, 1);
+        for (glm::dvec3& p : huge_box.points) p *= 1e17;
+        const std::string mesh_far = write_vtk("huge_box2.vtk", huge_box);
+        const std::string camera = "eye=3e17,-2e17,2.5e17,target=1e17,0.5e17,0.5e17,up=0,0,1,fov=40,near=1e16,far=1e18";
+        auto render = [&](const std::string& path, const std::string& name, std::vector<std::string> extra = {}) {
+            const std::string out = file("sigma_far_" + name + ".pfm");
+            std::vector<std::string> args = {"render", mesh_far, "--path", path, "--tf", big, "--camera", camera,
+                                             "--size", "48x40", "--threads", "2", "--out", out};
+            args.insert(args.end(), extra.begin(), extra.end());
+            require_accepted(run_cellfx(args, path == "scanline" ? kCpu : kGl));
+            INFO(out);
+            CHECK(all_finite(out));
+            return out;
+        };
+        const std::string absorption = render("scanline", "scanline_absorption");
+        const std::string emission = render("scanline", "scanline_emission", {"--model", "emission"});
+        REQUIRE(mean_value(absorption) > 0.05);
+        // Past a float's range emitted light saturates at its largest value, as the reference's.
+        CHECK(max_difference(render("pcp-exact", "pcp_exact"), emission) == 0.0);
+        // A segment 1e17 long at 1e31 per unit is opaque: the front's colour. The fog model keeps
+        // emission over optical depth finite; the exact sorted path interpolates τ along the
+        // length exactly (a silhouette's short segments stay opaque).
+        CHECK(max_difference(render("pcp-exact", "fog", {"--fog"}), absorption) < 2e-3);
+        CHECK(max_difference(render("absorption-exact", "absorption_exact"), absorption) < 2e-3);
+        CHECK(max_difference(render("absorption", "absorption"), absorption) < 2e-2); // classic: interpolated opacity
+        CHECK(mean_value(render("mip", "mip")) > 0.0);
+        // The 8-bit classic path: the same picture as the box at unit size, whose light saturates
+        // alike (it used to draw nothing at 1e17: Inf vertex colours interpolated to NaN).
+        const std::string unit_out = file("sigma_unit_pcp.pfm");
+        require_accepted(run_cellfx({"render", write_vtk("unit_box2.vtk", fx_test::hex_box(2, 1, 1)), "--path", "pcp", "--tf", big,
+                                     "--camera", "eye=3,-2,2.5,target=1,0.5,0.5,up=0,0,1,fov=40,near=0.1,far=10", "--size",
+                                     "48x40", "--out", unit_out},
+                                    kGl));
+        CHECK(mean_value(unit_out) > 0.05);
+        CHECK(max_difference(render("pcp", "pcp"), unit_out) <= 2.0 / 255.0);
+        // Mapped onto the field's range instead, c·σ integrated over 2e17 would pass a float's
+        // range in the GPU paths' tables: refused, saying so; the scan-line renderer draws it.
+        const std::string spread = write("sigma_spread.json", R"({"points": [[0, 1, 0.5, 0.2, 1e30], [1, 1, 0.5, 0.2, 1e31]], "normalized": true})");
+        require_refused(run_cellfx({"render", mesh_far, "--path", "pcp-exact", "--tf", spread, "--size", "48x40", "--out", file("x.pfm")}, kGl),
+                        {"transfer function", "scalar range", "float tables"});
+        require_accepted(run_cellfx(scanline(mesh_far, file("sigma_spread_scanline.pfm"), {"--tf", spread})));
+    }
     SECTION("a bow-tie hexahedron and a mesh of flat cells: refused by every path, info says why") {
         fx::CellMesh bow = fx_test::hex_box(1, 1, 1);
         std::uint32_t* h = bow.cell_vertices(0);

@@ -73,6 +73,12 @@ EmissionTable build_emission_table(const TransferFunction& tf, std::size_t size)
 void build_emission_rows(const TransferFunction& tf, std::size_t size, std::vector<glm::vec4>& texels, double& s_lo,
                          double& s_hi);
 
+// Throws fx::Error, naming the scalar range, where the GPU paths' float sums over tf's
+// emission tables would overflow (E or T over the range, or a point's c·σ times the samples):
+// refused rather than drawn as Inf. build_emission_rows calls it; so must any other builder.
+void require_float_emission_tables(const TransferFunction& tf, const EmissionTable& emission,
+                                   const EmissionTable& extinction);
+
 // Pre-integration table over (s_front, s_back, length), for the exact absorption path: entry
 // [(il * n_s + ib) * n_s + if] describes emission_absorption(s_f, s_b, l) with s_f, s_b on n_s
 // samples of [s_lo, s_hi] and l on n_l samples of [0, max_length] as

@@ -1,6 +1,8 @@
 // Based on: Roettger & Ertl 2003, §3 (emission, no sort), made exact per fragment.
 #include "passes/pcp_exact_pass.hpp"
 
+#include <limits>
+
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 
@@ -15,6 +17,8 @@ void PcpExactPass::draw(const Camera& camera, const Viewport& viewport, const Ce
     projector_.set_view_uniforms(program, camera, viewport);
     projector_.set_scene_depth_uniforms(program, camera, viewport, options.scene_depth);
     glUseProgram(program.id());
+    // Fog divides emission by optical depth: cap a cell's depth (shaders/pcp_exact.frag).
+    glUniform1f(kUniformMaxOpticalDepth, options.fog ? 1e30f : std::numeric_limits<float>::infinity());
     glEnable(GL_CULL_FACE);
     glCullFace(GL_FRONT); // back faces only: each pixel a cell covers gets one fragment
     glEnablei(GL_BLEND, 0);

@@ -287,6 +287,7 @@ void GlProjector::upload_tables(const TransferFunction& tf) {
     for (TransferPoint& p : white) p.color = glm::dvec3(1.0);
     const TransferFunction extinction_tf(white);
     const EmissionTable extinction = build_emission_table(extinction_tf, kTableSize);
+    require_float_emission_tables(tf, emission, extinction);
     s_lo_ = emission.s_lo;
     s_hi_ = emission.s_hi;
     const int w = kTableSize + 1;

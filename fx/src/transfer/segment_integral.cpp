@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <glm/common.hpp>
@@ -179,6 +180,15 @@ Weights piece_weights(double a, double b) {
     return {std::max(1.0 - J, 0.0), std::max(J - e, 0.0), e};
 }
 
+// The largest value the GPU paths' float emission tables and their sums may reach.
+constexpr double kMaxTableValue = 1e38;
+
+std::string short_number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
 void require_table(bool ok, const std::string& what) {
     if (!ok) throw Error("transfer function table: " + what);
 }
@@ -327,6 +337,27 @@ void build_emission_rows(const TransferFunction& tf, std::size_t size, std::vect
         // The held end values outside the table come from these.
         const double s = i + 1 == size ? s_hi : s_lo + (s_hi - s_lo) * double(i) / double(size - 1);
         texels[size + i] = glm::vec4(glm::vec3(tf.emission(s)), float(tf.sigma(s)));
+    }
+    require_float_emission_tables(tf, emission, extinction);
+}
+
+void require_float_emission_tables(const TransferFunction& tf, const EmissionTable& emission,
+                                   const EmissionTable& extinction) {
+    double largest = 0.0;
+    for (std::size_t i = 0; i < emission.cumulative.size(); ++i) {
+        const glm::vec3 e = glm::abs(emission.cumulative[i]);
+        largest = std::max({largest, double(e.x), double(e.y), double(e.z), double(std::abs(extinction.cumulative[i].x))});
+    }
+    const double samples = double(emission.cumulative.size());
+    for (const TransferPoint& p : tf.points())
+        largest = std::max({largest, p.sigma * samples, p.color.x * p.sigma * samples, p.color.y * p.sigma * samples,
+                            p.color.z * p.sigma * samples});
+    if (!(largest <= kMaxTableValue)) {
+        throw Error("transfer function: its emission c·sigma integrated over the scalar range [" +
+                    short_number(emission.s_lo) + ", " + short_number(emission.s_hi) + "] reaches " +
+                    short_number(largest) + ", beyond the " + short_number(kMaxTableValue) +
+                    " that the GPU paths' float tables hold: lower sigma or the colours, or the field's range "
+                    "(the scan-line renderer draws it)");
     }
 }
 
