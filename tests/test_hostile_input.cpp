@@ -342,6 +342,34 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--background", "5,5,5"})), {"--background", "[0, 1]"});
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--background", "-1,-1,-1"})), {"--background", "[0, 1]"});
     }
+    SECTION("a view too narrow for float, a far plane through the mesh, a mesh beyond the default far") {
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,target=0.3,0.3,0.3,up=0,0,1,ortho=1e-30"})),
+                        {"ortho height 1e-30", "narrower than 1e-6"});
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,target=0.3,0.3,0.3,fov=1e-9"})),
+                        {"fov 1e-09", "narrower than 1e-6"});
+        // Orthographic: the scan-line reference would draw the whole mesh, the sorted paths nothing.
+        require_refused(run_cellfx({"render", mesh, "--path", "absorption-exact", "--camera",
+                                    "eye=3,3,3,target=0.5,0.5,0.5,ortho=3,far=4.5", "--out", file("x.pfm")},
+                                   kGl),
+                        {"far=4.5", "cuts the mesh", "leave far out"});
+        // A box 1e5 across seen from 2e5 away: without far= the camera reaches it, and with a far
+        // plane through it (or just beyond it, where n/f below float's resolution used to clip
+        // back faces in front of it) every perspective path draws it all, as the reference does.
+        fx::CellMesh wide = fx_test::hex_box(2, 2, 2);
+        for (glm::dvec3& p : wide.points) p *= 5e4;
+        const std::string wide_mesh = write_vtk("wide_box.vtk", wide);
+        const std::string view = "eye=2e5,-1.2e5,1.5e5,target=5e4,5e4,5e4,up=0,0,1,fov=40";
+        const std::string tf = write("wide_tf.json", R"({"points": [[0, 1, 0.5, 0.2, 1e-5], [1, 0.2, 0.5, 1, 3e-5]], "normalized": true})");
+        require_accepted(run_cellfx(scanline(wide_mesh, file("wide_scanline.pfm"), {"--camera", view, "--tf", tf})));
+        CHECK(mean_value(file("wide_scanline.pfm")) > 0.01);
+        for (const char* far : {"", ",far=3.1e5", ",far=2e5"}) {
+            INFO("camera " << view << far);
+            require_accepted(run_cellfx({"render", wide_mesh, "--path", "absorption-exact", "--camera", view + far, "--tf", tf,
+                                         "--size", "48x40", "--out", file("wide_gl.pfm")},
+                                        kGl));
+            CHECK(max_difference(file("wide_scanline.pfm"), file("wide_gl.pfm")) < 1e-3);
+        }
+    }
     SECTION("extinction: 1e300 refused, 1e31 (inside the bound) stays finite on every CPU model") {
         const std::string huge = write("sigma_huge.json", R"({"points": [[0, 1, 0.5, 0.2, 1], [1, 1, 0.5, 0.2, 1e300]]})");
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--tf", huge})), {"sigma_huge.json", "points[1]", "sigma", "1e+32"});

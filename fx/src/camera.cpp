@@ -19,6 +19,9 @@ namespace cellfx::fx {
 
 namespace {
 
+// The narrowest view, as a fraction of the eye's distance to the target (Camera::validate).
+constexpr double kMinViewHeight = 1e-6;
+
 // v / |v| for any finite non-zero v: scaled by its largest component first, so that neither
 // 1e-300 nor 1e300 under- or overflows the squares.
 glm::dvec3 unit(const glm::dvec3& v) {
@@ -67,6 +70,14 @@ void Camera::validate(std::string_view who) const {
         fail("near " + number(near_distance) + " must be positive and finite (and far finite)");
     if (!(far_distance > near_distance))
         fail("near " + number(near_distance) + " is not in front of far " + number(far_distance) + ": need 0 < near < far");
+    // The GPU paths place pixels and cells in float relative to the eye: a view narrower than
+    // a millionth of its distance to the target cannot be told apart from its neighbours.
+    const double distance = glm::length(d);
+    const double height = orthographic() ? ortho_height : 2.0 * distance * std::tan(0.5 * glm::radians(fov_y_degrees));
+    if (!(height >= kMinViewHeight * distance))
+        fail(std::string(orthographic() ? "ortho height " : "fov ") + number(orthographic() ? ortho_height : fov_y_degrees) +
+             " gives a view " + number(height) + " high at the target, " + number(distance) +
+             " away: narrower than 1e-6 of that distance, which float cannot resolve (widen the view or move the eye closer)");
 }
 
 glm::dmat4 Camera::projection_matrix(double aspect) const {

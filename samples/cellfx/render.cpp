@@ -1,11 +1,14 @@
 // `cellfx render FILE [Q_FILE] --path NAME ...`: one frame of a mesh, written to PNG or PFM.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "commands.hpp"
 #include "fx/camera.hpp"
@@ -24,6 +27,48 @@
 
 namespace cellfx_cli {
 namespace {
+
+// True if the camera spec (Camera::parse's form) sets `key`, as in "far=50".
+bool spec_sets(const std::string& spec, const std::string& key) {
+    for (std::size_t at = 0; at <= spec.size();) {
+        const std::size_t comma = std::min(spec.find(',', at), spec.size());
+        if (spec.compare(at, key.size() + 1, key + "=") == 0) return true;
+        at = comma + 1;
+    }
+    return false;
+}
+
+// A --camera without near= or far= gets them fitted to the mesh (the defaults, 0.01 and 1e4,
+// would cut a mesh in millimetres or one of 1e-4 across). cellfx does not cut cells at the
+// far plane: a perspective view's paths all ignore it, but an orthographic view's GPU paths
+// rasterise against it and would lose the cells whose back faces lie beyond it, so there a
+// far= that cuts the mesh is refused.
+void fit_depth_range(const std::string& spec, const fx::Bounds& bounds, fx::Camera& camera) {
+    camera.validate("--camera");
+    const glm::dvec3 forward = camera.forward();
+    double nearest = HUGE_VAL, farthest = -HUGE_VAL;
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
+                                (k & 4) ? bounds.hi.z : bounds.lo.z);
+        const double depth = glm::dot(corner - camera.eye, forward);
+        nearest = std::min(nearest, depth), farthest = std::max(farthest, depth);
+    }
+    if (!(farthest > 0.0)) return; // the mesh lies behind the eye: nothing to fit
+    const double size = glm::length(bounds.hi - bounds.lo);
+    if (!spec_sets(spec, "far")) {
+        camera.far_distance = std::max(camera.far_distance, farthest * 1.01 + 1e-3 * size);
+    } else if (camera.orthographic() && camera.far_distance < farthest) {
+        throw fx::Error("--camera far=" + format_number(camera.far_distance) + " cuts the mesh, which reaches " +
+                        format_number(farthest) + " from the eye along the view: cellfx does not cut cells at the far "
+                        "plane, and an orthographic view's GPU paths would lose those behind it; give a far beyond the "
+                        "mesh, or leave far out to fit it");
+    }
+    if (!spec_sets(spec, "near")) {
+        // In front of the mesh's nearest corner, or a small part of the mesh when the eye is inside.
+        const double fit = nearest > 0.0 ? 0.5 * nearest : 1e-4 * size;
+        if (fit > 0.0) camera.near_distance = std::min(camera.near_distance, fit);
+    }
+}
 
 constexpr const char* kUsage =
     "usage: cellfx render FILE [Q_FILE] --out FILE.png|FILE.pfm [options]\n"
@@ -280,6 +325,7 @@ int run_render(const std::vector<std::string>& args) {
     if (job.fog && path_name != "pcp-exact") throw fx::Error("--fog is an option of --path pcp-exact");
     const fx::Bounds bounds = fx::mesh_bounds(mesh);
     job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);
+    if (parsed.has("camera")) fit_depth_range(parsed.get("camera"), bounds, job.camera);
     if (parsed.has("near")) {
         job.camera.near_distance = parse_double(parsed.get("near"), "--near");
         if (!(job.camera.near_distance > 0.0)) throw fx::Error("--near must be positive");

@@ -315,7 +315,17 @@ void GlProjector::upload_tables(const TransferFunction& tf) {
 
 glm::mat4 GlProjector::view_projection(const Camera& camera, const Viewport& viewport) const {
     const double aspect = double(viewport.width) / double(viewport.height);
-    return glm::mat4(camera.projection_matrix(aspect) * view(camera).view);
+    glm::dmat4 projection = camera.projection_matrix(aspect);
+    if (!camera.orthographic()) {
+        // Rasterised without a far plane (the frustum's depth row with far at infinity; x, y
+        // and w unchanged, near still clips): cells are not cut at far, as the scan-line
+        // reference does not cut them, and the passes read depth from 1/w, never from z.
+        // With a finite far, n/f below float's 6e-8 rounds the depth row into clipping the
+        // back faces of cells well in front of the far plane.
+        projection[2][2] = -1.0;
+        projection[3][2] = -2.0 * camera.near_distance;
+    }
+    return glm::mat4(projection * view(camera).view);
 }
 
 void GlProjector::bind_mesh() const {
