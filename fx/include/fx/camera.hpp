@@ -32,6 +32,9 @@ struct Camera {
     double fov_y_degrees = 45.0; // vertical field of view of a perspective camera
     double ortho_height = 0.0;   // > 0: orthographic, this many world units tall
     double near_distance = 0.01;
+    // Bounds the host's depth buffer. Cells are not cut at the far plane: the scan-line
+    // renderer ignores it and the perspective GPU paths rasterise with far at infinity (an
+    // orthographic view's GPU paths still clip at it: keep far beyond the mesh there).
     double far_distance = 1.0e4;
     // An explicit eye → clip matrix, for a host whose frustum the fields above cannot describe
     // (off-axis, or one tile of a larger image, as VTK draws tiles). When set,
@@ -50,7 +53,9 @@ struct Camera {
     // eye ≠ target; up non-zero and at least 1e-6 rad away from the view direction (any length:
     // it is scaled before use, so 1e-300 works as well as 1); perspective fov in (0, 180) or
     // ortho height > 0 (ortho_height < 0 is an error, not a perspective camera);
-    // 0 < near < far. Every render path calls it (no allocation unless it throws).
+    // 0 < near < far; the view at the target at least 1e-6 of the eye's distance to it tall (a
+    // narrower one float cannot resolve). Every render path calls it (no allocation unless it
+    // throws).
     void validate(std::string_view who) const;
 
     glm::dmat4 view_matrix() const;                       // world → eye
