@@ -93,7 +93,13 @@ vec4 segment_integral(int v, float s_f, float s_b, float l) {
         float w = clamp((float(lower + 1) - x_lo) / max(x_hi - x_lo, 1e-30), 0.0, 1.0);
         return (cell_slope(v, lower) * w + cell_slope(v, lower + 1) * (1.0 - w)) * l;
     }
-    return (cumulative_at(v, s_b) - cumulative_at(v, s_f)) * (l / (s_b - s_f));
+    // Beyond the table its end values hold. Each part is weighted by its share of l before the
+    // sum, so that an end far beyond the table (a held value times a huge run of s) cannot
+    // overflow it while the segment's integral is finite.
+    float lo = min(s_f, s_b), hi = max(s_f, s_b), per_s = l / (hi - lo);
+    float a = clamp(lo, u_table[v].x, u_table[v].y), b = clamp(hi, u_table[v].x, u_table[v].y);
+    return row_texel(v, 1, 0) * ((a - lo) * per_s) + (cumulative_at(v, b) - cumulative_at(v, a)) * per_s +
+           row_texel(v, 1, kTableSize - 1) * ((hi - b) * per_s);
 }
 
 // ---- segments ---------------------------------------------------------------------------------

@@ -90,14 +90,18 @@ void require_accepted(const RunResult& r) {
     REQUIRE(r.exit_code == 0);
 }
 
-// The largest per-channel difference of two PFM renders (both must exist and match in size).
+// The largest per-channel difference of two PFM renders (both must exist and match in size);
+// infinite where either holds a NaN or Inf the other does not match exactly.
 double max_difference(const std::string& a, const std::string& b) {
     const fx::Image x = fx::read_pfm(a), y = fx::read_pfm(b);
     REQUIRE(x.width == y.width);
     REQUIRE(x.height == y.height);
     double worst = 0.0;
     for (std::size_t i = 0; i < x.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(x.pixels[i][c] - y.pixels[i][c])));
+        for (int c = 0; c < 3; ++c) {
+            const double d = std::abs(double(x.pixels[i][c]) - double(y.pixels[i][c]));
+            worst = std::isfinite(d) ? std::max(worst, d) : x.pixels[i][c] == y.pixels[i][c] ? worst : HUGE_VAL;
+        }
     return worst;
 }
 
@@ -341,6 +345,27 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,ortho=-5"})), {"ortho=-5", "positive"});
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--background", "5,5,5"})), {"--background", "[0, 1]"});
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--background", "-1,-1,-1"})), {"--background", "[0, 1]"});
+    }
+    SECTION("one medium of volumes whose field runs far past the transfer function") {
+        // The field (2e17·x + 1) leaves the table's [0, 1] at once: the medium's held end value
+        // times a run of 2e17 in s used to overflow its sum into Inf, then NaN.
+        fx::CellMesh box = fx_test::hex_box(2, 2, 2);
+        for (glm::dvec3& p : box.points) p *= 0.5;
+        fx::ScalarField f{"f", {}};
+        for (const glm::dvec3& p : box.points) f.values.push_back(float(1.0 + 2e17 * p.x));
+        box.scalars = {f};
+        const std::string mesh_path = file("far_field.vtk");
+        fx::write_vtk_legacy(box, mesh_path, false);
+        const std::string tf = R"({"points": [[0, 1, 0.5, 0.2, 1e30], [1, 1, 0.5, 0.2, 1e31]]})";
+        const std::string scene = write("far_field.json", R"({"effects": [
+  {"type": "volume", "name": "a", "shape": "mesh", "mesh": ")" + mesh_path + R"(", "transfer_function": )" + tf + R"(, "path": "absorption-exact"},
+  {"type": "volume", "name": "b", "shape": "mesh", "mesh": ")" + mesh_path + R"(", "position": [0.3, 0.2, 0.1], "transfer_function": )" + tf + R"(, "path": "absorption-exact"}],
+ "camera": {"eye": [3, -2, 2.5], "target": [0.6, 0.5, 0.5], "up": [0, 0, 1]}, "render": {"width": 48, "height": 40}})");
+        require_accepted(run_cellfx({"render", scene, "--out", file("far_field_gl.pfm")}, kGl));
+        require_accepted(run_cellfx({"render", scene, "--path", "scanline", "--threads", "2", "--out", file("far_field_ref.pfm")}));
+        CHECK(all_finite(file("far_field_gl.pfm")));
+        CHECK(mean_value(file("far_field_ref.pfm")) > 0.1);
+        CHECK(max_difference(file("far_field_gl.pfm"), file("far_field_ref.pfm")) < 1e-4);
     }
     SECTION("a view too narrow for float, a far plane through the mesh, a mesh beyond the default far") {
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,target=0.3,0.3,0.3,up=0,0,1,ortho=1e-30"})),
