@@ -120,7 +120,7 @@ inline Tolerance stated_tolerance(Path p, int cells_on_ray) {
     case Path::AbsorptionExact:
         // The pre-integration table (128² scalars × 64 lengths, trilinear), float32 against
         // double, silhouette pixels (test_absorption_scanline.cpp, docs/absorption.md).
-        return {0.015, 0.0, 0.0, 0.01, 0.001, 0.0};
+        return {0.005, 0.0, 0.0, 0.01, 0.0005, 0.0};
     }
     return {};
 }
