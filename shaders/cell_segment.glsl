@@ -88,7 +88,7 @@ float face_scalar(int triangle, Ray ray, float t) {
 // Where this fragment lies along its pixel's ray: 1/w of a perspective projection, linear in
 // window depth for an orthographic one (whose rays start on the eye plane).
 float fragment_t(Ray ray) {
-    if (u_orthographic != 0) return mix(u_scene_depth_range.x, u_scene_depth_range.y, gl_FragCoord.z);
+    if (u_orthographic != 0) return orthographic_view_depth(gl_FragCoord.z);
     return (1.0 / gl_FragCoord.w) / max(dot(ray.dir, u_forward), 1e-6);
 }
 

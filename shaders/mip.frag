@@ -15,7 +15,7 @@ void main() {
 #ifndef CAPS
     // Scene depth: faces behind the scene's surface are hidden (caps lie on the near plane). The
     // fragment's own view depth: 1/w of a perspective projection, linear in window z otherwise.
-    float view_depth = u_orthographic != 0 ? mix(u_scene_depth_range.x, u_scene_depth_range.y, gl_FragCoord.z)
+    float view_depth = u_orthographic != 0 ? orthographic_view_depth(gl_FragCoord.z)
                                            : 1.0 / gl_FragCoord.w;
     if (view_depth > scene_view_depth(gl_FragCoord.xy)) discard;
 #endif

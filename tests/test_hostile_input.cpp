@@ -367,16 +367,26 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         CHECK(mean_value(file("far_field_ref.pfm")) > 0.1);
         CHECK(max_difference(file("far_field_gl.pfm"), file("far_field_ref.pfm")) < 1e-4);
     }
-    SECTION("a view too narrow for float, a far plane through the mesh, a mesh beyond the default far") {
+    SECTION("a view too narrow for float, a far plane through the mesh") {
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,target=0.3,0.3,0.3,up=0,0,1,ortho=1e-30"})),
                         {"ortho height 1e-30", "narrower than 1e-6"});
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,target=0.3,0.3,0.3,fov=1e-9"})),
                         {"fov 1e-09", "narrower than 1e-6"});
-        // Orthographic: the scan-line reference would draw the whole mesh, the sorted paths nothing.
-        require_refused(run_cellfx({"render", mesh, "--path", "absorption-exact", "--camera",
-                                    "eye=3,3,3,target=0.5,0.5,0.5,ortho=3,far=4.5", "--out", file("x.pfm")},
-                                   kGl),
-                        {"far=4.5", "cuts the mesh", "leave far out"});
+        // A far plane through the mesh cuts no cells on any path: an orthographic view's GPU paths
+        // rasterise with far moved past the mesh (the sorted paths used to draw nothing here).
+        const std::string ortho = "eye=3,3,3,target=0.5,0.5,0.5,up=0,0,1,ortho=3";
+        require_accepted(run_cellfx(scanline(mesh, file("ortho_ref.pfm"), {"--camera", ortho})));
+        CHECK(mean_value(file("ortho_ref.pfm")) > 0.001);
+        for (const char* path : {"absorption-exact", "pcp-exact", "mip", "pcp"}) {
+            INFO(path);
+            for (const char* far : {",far=100", ",far=4.5"}) {
+                require_accepted(run_cellfx({"render", mesh, "--path", path, "--camera", ortho + far, "--size", "48x40",
+                                             "--out", file(std::string("ortho_") + (far[5] == '1' ? "far" : "cut") + ".pfm")},
+                                            kGl));
+            }
+            CHECK(max_difference(file("ortho_far.pfm"), file("ortho_cut.pfm")) == 0.0);
+            if (std::string(path) == "absorption-exact") CHECK(max_difference(file("ortho_cut.pfm"), file("ortho_ref.pfm")) < 1e-3);
+        }
         // A box 1e5 across seen from 2e5 away: without far= the camera reaches it, and with a far
         // plane through it (or just beyond it, where n/f below float's resolution used to clip
         // back faces in front of it) every perspective path draws it all, as the reference does.

@@ -315,7 +315,7 @@ TEST_CASE("footprints cover every pixel a cell covers, and batches share no tile
         for (int tile : {1, 4, 7}) {
             CAPTURE(tile);
             fx::CellFootprints fp;
-            fx::cell_footprints(mesh, g, view, vp, projected, caps, width, height, tile, fp);
+            fx::cell_footprints(mesh, g, vp, projected, caps, width, height, tile, fp);
             REQUIRE(fp.cell_count() == mesh.cell_count());
             std::vector<std::uint32_t> batch;
             const std::uint32_t batches = fx::batch_footprints(fp, batch);

@@ -28,7 +28,7 @@
 namespace cellfx_cli {
 namespace {
 
-// True if the camera spec (Camera::parse's form) sets `key`, as in "far=50".
+// True if the camera spec (Camera::parse's form) sets `key`, as in "near=0.5".
 bool spec_sets(const std::string& spec, const std::string& key) {
     for (std::size_t at = 0; at <= spec.size();) {
         const std::size_t comma = std::min(spec.find(',', at), spec.size());
@@ -38,36 +38,21 @@ bool spec_sets(const std::string& spec, const std::string& key) {
     return false;
 }
 
-// A --camera without near= or far= gets them fitted to the mesh (the defaults, 0.01 and 1e4,
-// would cut a mesh in millimetres or one of 1e-4 across). cellfx does not cut cells at the
-// far plane: a perspective view's paths all ignore it, but an orthographic view's GPU paths
-// rasterise against it and would lose the cells whose back faces lie beyond it, so there a
-// far= that cuts the mesh is refused.
-void fit_depth_range(const std::string& spec, const fx::Bounds& bounds, fx::Camera& camera) {
+// A --camera without near= gets one in front of the mesh: the default, 0.01, would cut a mesh
+// 1e-4 across in front of the eye. (No path cuts cells at the far plane.)
+void fit_near(const std::string& spec, const fx::Bounds& bounds, fx::Camera& camera) {
+    if (spec_sets(spec, "near")) return;
     camera.validate("--camera");
     const glm::dvec3 forward = camera.forward();
-    double nearest = HUGE_VAL, farthest = -HUGE_VAL;
+    double nearest = HUGE_VAL;
     for (int k = 0; k < 8; ++k) {
         const glm::dvec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
                                 (k & 4) ? bounds.hi.z : bounds.lo.z);
-        const double depth = glm::dot(corner - camera.eye, forward);
-        nearest = std::min(nearest, depth), farthest = std::max(farthest, depth);
+        nearest = std::min(nearest, glm::dot(corner - camera.eye, forward));
     }
-    if (!(farthest > 0.0)) return; // the mesh lies behind the eye: nothing to fit
-    const double size = glm::length(bounds.hi - bounds.lo);
-    if (!spec_sets(spec, "far")) {
-        camera.far_distance = std::max(camera.far_distance, farthest * 1.01 + 1e-3 * size);
-    } else if (camera.orthographic() && camera.far_distance < farthest) {
-        throw fx::Error("--camera far=" + format_number(camera.far_distance) + " cuts the mesh, which reaches " +
-                        format_number(farthest) + " from the eye along the view: cellfx does not cut cells at the far "
-                        "plane, and an orthographic view's GPU paths would lose those behind it; give a far beyond the "
-                        "mesh, or leave far out to fit it");
-    }
-    if (!spec_sets(spec, "near")) {
-        // In front of the mesh's nearest corner, or a small part of the mesh when the eye is inside.
-        const double fit = nearest > 0.0 ? 0.5 * nearest : 1e-4 * size;
-        if (fit > 0.0) camera.near_distance = std::min(camera.near_distance, fit);
-    }
+    // Half way to the mesh's nearest corner, or a small part of the mesh when the eye is inside it.
+    const double fit = nearest > 0.0 ? 0.5 * nearest : 1e-4 * glm::length(bounds.hi - bounds.lo);
+    if (fit > 0.0) camera.near_distance = std::min(camera.near_distance, fit);
 }
 
 constexpr const char* kUsage =
@@ -84,8 +69,8 @@ constexpr const char* kUsage =
     "                     a normalized one is mapped onto the field's range\n"
     "  --density K        multiply the transfer function's extinction by K (default 1)\n"
     "  --camera SPEC      eye=x,y,z,target=x,y,z,up=x,y,z,fov=DEG (or ortho=HEIGHT), near=, far=\n"
-    "                     (default: the whole mesh from the +x+y+z diagonal); near and far left\n"
-    "                     out are fitted to the mesh; cells are not cut at the far plane\n"
+    "                     (default: the whole mesh from the +x+y+z diagonal); near left out is\n"
+    "                     fitted to the mesh; no path cuts cells at the far plane\n"
     "  --near D           near-plane distance (overrides the camera's)\n"
     "  --size WxH         image size (default 512x512)\n"
     "  --background R,G,B background colour in [0,1] (default 0,0,0)\n"
@@ -326,7 +311,7 @@ int run_render(const std::vector<std::string>& args) {
     if (job.fog && path_name != "pcp-exact") throw fx::Error("--fog is an option of --path pcp-exact");
     const fx::Bounds bounds = fx::mesh_bounds(mesh);
     job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);
-    if (parsed.has("camera")) fit_depth_range(parsed.get("camera"), bounds, job.camera);
+    if (parsed.has("camera")) fit_near(parsed.get("camera"), bounds, job.camera);
     if (parsed.has("near")) {
         job.camera.near_distance = parse_double(parsed.get("near"), "--near");
         if (!(job.camera.near_distance > 0.0)) throw fx::Error("--near must be positive");

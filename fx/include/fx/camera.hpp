@@ -32,9 +32,9 @@ struct Camera {
     double fov_y_degrees = 45.0; // vertical field of view of a perspective camera
     double ortho_height = 0.0;   // > 0: orthographic, this many world units tall
     double near_distance = 0.01;
-    // Bounds the host's depth buffer. Cells are not cut at the far plane: the scan-line
-    // renderer ignores it and the perspective GPU paths rasterise with far at infinity (an
-    // orthographic view's GPU paths still clip at it: keep far beyond the mesh there).
+    // Bounds the host's depth buffer (a scene depth is read with it). No path cuts cells at the
+    // far plane: the scan-line renderer ignores it, and the GPU paths rasterise with it at
+    // infinity (perspective) or moved past the mesh (orthographic).
     double far_distance = 1.0e4;
     // An explicit eye → clip matrix, for a host whose frustum the fields above cannot describe
     // (off-axis, or one tile of a larger image, as VTK draws tiles). When set,

@@ -20,7 +20,7 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     build_near_caps(geometry, view, projected_, caps_);
     const double aspect = double(viewport.width) / double(viewport.height);
     const glm::dmat4 vp = camera.projection_matrix(aspect) * view.view;
-    cell_footprints(mesh, geometry, view, vp, projected_, caps_, viewport.width, viewport.height, options.batch_tile,
+    cell_footprints(mesh, geometry, vp, projected_, caps_, viewport.width, viewport.height, options.batch_tile,
                     footprints_);
     const std::uint32_t batches = batch_footprints(footprints_, batch_of_, masks_);
 

@@ -67,9 +67,9 @@ bool band_extent(const std::vector<glm::dvec2>& hull, double ya, double yb, doub
 
 } // namespace
 
-void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, const ProjectorView& view,
-                     const glm::dmat4& view_projection, const ProjectedCells& projected, const NearCaps& caps,
-                     int width, int height, int tile, CellFootprints& out) {
+void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, const glm::dmat4& view_projection,
+                     const ProjectedCells& projected, const NearCaps& caps, int width, int height, int tile,
+                     CellFootprints& out) {
     const std::size_t nc = mesh.cell_count();
     out.tile = std::max(tile, 1);
     out.tiles_x = std::max(0, (width + out.tile - 1) / out.tile);
@@ -83,7 +83,6 @@ void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, co
     assign_kept(cap_of, nc, kNoBatch);
     for (std::size_t k = 0; k < caps.polygon_count(); ++k) cap_of[caps.cell[k]] = std::uint32_t(k);
 
-    const double far_d = view.far_distance - view.near_distance;
     std::vector<glm::dvec2>& points = out.points;
     std::vector<glm::dvec2>& hull = out.hull;
     auto include = [&](const glm::dvec3& p) {
@@ -94,7 +93,7 @@ void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, co
     for (std::size_t c = 0; c < nc; ++c) {
         points.clear();
         const glm::vec2 r = projected.depth_range[c];
-        if (r.x + r.y > 0.0f && r.x <= far_d) { // not wholly in front of the near plane or beyond far
+        if (r.x + r.y > 0.0f) { // not wholly in front of the near plane (none is cut at the far plane)
             const std::uint32_t* cv = mesh.cell_vertices(c);
             for (int k = 0; k < cell_vertex_count(mesh.cell_types[c]); ++k)
                 if (projected.point_depth[cv[k]] >= 0.0f) include(glm::dvec3(geometry.positions[cv[k]]));

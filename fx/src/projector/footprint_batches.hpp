@@ -51,12 +51,13 @@ struct CellFootprints {
 };
 
 // The tile footprint of each cell's visible part on a width × height viewport; empty for
-// cells wholly in front of the near plane, beyond the far plane or outside the viewport.
+// cells wholly in front of the near plane or outside the viewport (none is cut at the far
+// plane).
 // `view_projection` maps the geometry's relative frame to clip space. `caps` must be the caps
 // of `projected` (build_near_caps). tile ≥ 1 pixels; width, height ≤ 65535·tile.
-void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, const ProjectorView& view,
-                     const glm::dmat4& view_projection, const ProjectedCells& projected, const NearCaps& caps,
-                     int width, int height, int tile, CellFootprints& out);
+void cell_footprints(const CellMesh& mesh, const ProjectorGeometry& geometry, const glm::dmat4& view_projection,
+                     const ProjectedCells& projected, const NearCaps& caps, int width, int height, int tile,
+                     CellFootprints& out);
 
 constexpr std::uint32_t kNoBatch = 0xFFFFFFFFu;
 

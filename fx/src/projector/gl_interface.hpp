@@ -54,6 +54,7 @@ namespace cellfx::fx {
     X(kUniformOpacitySize, UNIFORM_OPACITY_SIZE, 12)                                               \
     X(kUniformPieceBase, UNIFORM_PIECE_BASE, 13) /* first triangle of a frame's tetrahedra */     \
     X(kUniformMaxOpticalDepth, UNIFORM_MAX_OPTICAL_DEPTH, 14) /* pcp-exact: a cell's depth cap */ \
+    X(kUniformRasterDepthRange, UNIFORM_RASTER_DEPTH_RANGE, 15) /* orthographic: window z's n, f */ \
     X(kUniformSceneDepthMode, UNIFORM_SCENE_DEPTH_MODE, 20)                                        \
     X(kUniformSceneDepthRange, UNIFORM_SCENE_DEPTH_RANGE, 21)                                      \
     X(kUniformSceneOrigin, UNIFORM_SCENE_ORIGIN, 22)                                               \

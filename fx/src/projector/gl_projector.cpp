@@ -316,6 +316,7 @@ void GlProjector::upload_tables(const TransferFunction& tf) {
 glm::mat4 GlProjector::view_projection(const Camera& camera, const Viewport& viewport) const {
     const double aspect = double(viewport.width) / double(viewport.height);
     glm::dmat4 projection = camera.projection_matrix(aspect);
+    const double n = camera.near_distance;
     if (!camera.orthographic()) {
         // Rasterised without a far plane (the frustum's depth row with far at infinity; x, y
         // and w unchanged, near still clips): cells are not cut at far, as the scan-line
@@ -323,9 +324,26 @@ glm::mat4 GlProjector::view_projection(const Camera& camera, const Viewport& vie
         // With a finite far, n/f below float's 6e-8 rounds the depth row into clipping the
         // back faces of cells well in front of the far plane.
         projection[2][2] = -1.0;
-        projection[3][2] = -2.0 * camera.near_distance;
+        projection[3][2] = -2.0 * n;
+    } else {
+        // The box's depth row from near to raster_far (window z is read back through the same
+        // range, UNIFORM_RASTER_DEPTH_RANGE).
+        const double f = raster_far(camera);
+        projection[2][2] = -2.0 / (f - n);
+        projection[3][2] = -(f + n) / (f - n);
     }
     return glm::mat4(projection * view(camera).view);
+}
+
+double GlProjector::raster_far(const Camera& camera) const {
+    const ProjectorView v = view(camera);
+    double deepest = 0.0; // beyond the near plane
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 c((k & 1) ? bounds_hi_.x : bounds_lo_.x, (k & 2) ? bounds_hi_.y : bounds_lo_.y,
+                           (k & 4) ? bounds_hi_.z : bounds_lo_.z);
+        deepest = std::max(deepest, v.depth(c));
+    }
+    return std::max(camera.far_distance, camera.near_distance + deepest * 1.01);
 }
 
 void GlProjector::bind_mesh() const {
@@ -369,6 +387,7 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
     glProgramUniform3fv(p, kUniformForward, 1, glm::value_ptr(forward));
     glProgramUniform1f(p, kUniformNear, float(v.near_distance));
     glProgramUniform1i(p, kUniformOrthographic, v.orthographic ? 1 : 0);
+    if (v.orthographic) glProgramUniform2f(p, kUniformRasterDepthRange, float(camera.near_distance), float(raster_far(camera)));
     glProgramUniform4fv(p, kUniformTable, 1, glm::value_ptr(table));
 
     // The ray of pixel centre (x, y) of the pass's target (the viewport's size, at the origin)

@@ -120,8 +120,13 @@ public:
 
     // ---- per frame ----------------------------------------------------------------------------
     ProjectorView view(const Camera& camera) const { return make_projector_view(geometry_, camera); }
-    // Relative frame → clip space for this viewport.
+    // Relative frame → clip space for this viewport. Cells are not cut at the camera's far
+    // plane: a perspective view rasterises with far at infinity, an orthographic one with far
+    // moved past the mesh (raster_far).
     glm::mat4 view_projection(const Camera& camera, const Viewport& viewport) const;
+    // The far distance an orthographic view rasterises with: the camera's, or past the mesh's
+    // farthest corner where that lies beyond it (UNIFORM_RASTER_DEPTH_RANGE's far).
+    double raster_far(const Camera& camera) const;
     // Sets project.glsl's view, table and fragment-ray uniforms on `program`, for drawing into a
     // target of the viewport's size at the origin (the pass's own; the viewport's position
     // matters to the resolve and the scene depth only).
