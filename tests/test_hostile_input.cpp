@@ -367,6 +367,29 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         CHECK(mean_value(file("far_field_ref.pfm")) > 0.1);
         CHECK(max_difference(file("far_field_gl.pfm"), file("far_field_ref.pfm")) < 1e-4);
     }
+    SECTION("a scene 1e17 from the world's origin: the picture it has at the origin, reference included") {
+        // Offsets of 1e17 (exact in double, as are the positions below) move a fog box and a
+        // campfire 2 units across: the scan-line reference used to collapse them in world
+        // coordinates ("all 1 cells have zero volume"); it now works relative to the eye.
+        auto scene_at = [&](const std::string& name, const std::string& x, const std::string& eye_x) {
+            return write_scene(name, R"({"effects": [
+  {"type": "volume", "shape": "box", "size": [2, 2, 2], "position": [)" + x + R"(, 0, 0], "albedo": 0.5, "path": "absorption-exact",
+   "transfer_function": {"points": [[0, 1, 0.5, 0.2, 0], [1, 1, 0.5, 0.2, 2]]}},
+  {"type": "campfire", "position": [)" + x + R"(, -1.5, 0], "transfer_function": "TF"}],
+ "camera": {"eye": [)" + eye_x + R"(, -10, 6], "target": [)" + x + R"(, 0, 0.5], "up": [0, 0, 1]}, "render": {"width": 48, "height": 40}})");
+        };
+        const std::string here = scene_at("scene_here.json", "0", "16"), far = scene_at("scene_far.json", "1e17", "100000000000000016");
+        for (const std::string& path : {std::string("scanline"), std::string("gpu")}) {
+            INFO(path);
+            std::vector<std::string> a = {"render", here, "--out", file("scene_here.pfm")}, b = {"render", far, "--out", file("scene_far.pfm")};
+            if (path == "scanline")
+                for (auto* v : {&a, &b}) v->insert(v->end(), {"--path", "scanline", "--threads", "2"});
+            require_accepted(run_cellfx(a, kGl));
+            require_accepted(run_cellfx(b, kGl));
+            CHECK(mean_value(file("scene_here.pfm")) > 0.01);
+            CHECK(max_difference(file("scene_here.pfm"), file("scene_far.pfm")) < 1e-5);
+        }
+    }
     SECTION("a view too narrow for float, a far plane through the mesh") {
         require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--camera", "eye=3,3,3,target=0.3,0.3,0.3,up=0,0,1,ortho=1e-30"})),
                         {"ortho height 1e-30", "narrower than 1e-6"});

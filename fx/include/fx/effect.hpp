@@ -149,10 +149,13 @@ glm::dmat4 frame_along(const glm::dvec3& position, const glm::dvec3& direction);
 // `camera` gives of the mesh moved by `world_from_local` (rigid: rotation and translation).
 Camera camera_in_frame(const Camera& camera, const glm::dmat4& world_from_local);
 
-// The view volume of `camera` with this aspect (width / height) as six world-space half-spaces
-// (GL's clip-space inequalities −w ≤ x ≤ w, ... carried back through the view-projection).
+// The view volume of `camera` with this aspect (width / height) as six half-spaces (GL's
+// clip-space inequalities −w ≤ x ≤ w, ... carried back through the view-projection), in world
+// coordinates relative to the eye: a box 2 units across 1e17 from the world's origin is
+// tested as precisely as one at the origin.
 struct Frustum {
-    glm::dvec4 planes[6]; // (n, d): n·p + d ≥ 0 inside
+    glm::dvec3 origin{0.0}; // the camera's eye
+    glm::dvec4 planes[6];   // (n, d): n·(p − origin) + d ≥ 0 inside
     Frustum(const Camera& camera, double aspect);
     // False when the box lies entirely outside one of the planes; true otherwise (conservative:
     // a box beside a frustum corner may pass). False for empty bounds.

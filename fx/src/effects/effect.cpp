@@ -142,10 +142,14 @@ Bounds transform_bounds(const Bounds& bounds, const glm::dmat4& m) {
     return out;
 }
 
-Frustum::Frustum(const Camera& camera, double aspect) {
-    // Row r of the view-projection: clip coordinate r of a world point. Plane p of the six:
+Frustum::Frustum(const Camera& camera, double aspect) : origin(camera.eye) {
+    // Row r of the view-projection (of the camera moved to the origin): clip coordinate r of a
+    // point relative to the eye. Plane p of the six:
     // w + x ≥ 0, w − x ≥ 0, w + y ≥ 0, w − y ≥ 0, w + z ≥ 0, w − z ≥ 0.
-    const glm::dmat4 vp = camera.projection_matrix(aspect) * camera.view_matrix();
+    Camera relative = camera;
+    relative.eye = glm::dvec3(0.0);
+    relative.target = camera.target - camera.eye;
+    const glm::dmat4 vp = relative.projection_matrix(aspect) * relative.view_matrix();
     const auto row = [&vp](int r) { return glm::dvec4(vp[0][r], vp[1][r], vp[2][r], vp[3][r]); };
     for (int p = 0; p < 6; ++p) planes[p] = row(3) + ((p % 2) ? -1.0 : 1.0) * row(p / 2);
 }
@@ -154,8 +158,9 @@ bool Frustum::intersects(const Bounds& box) const {
     if (box.empty()) return false;
     for (const glm::dvec4& plane : planes) {
         // The corner furthest along the plane's normal: outside with it, outside with all.
-        const glm::dvec3 corner(plane.x >= 0.0 ? box.hi.x : box.lo.x, plane.y >= 0.0 ? box.hi.y : box.lo.y,
-                                plane.z >= 0.0 ? box.hi.z : box.lo.z);
+        const glm::dvec3 corner = glm::dvec3(plane.x >= 0.0 ? box.hi.x : box.lo.x, plane.y >= 0.0 ? box.hi.y : box.lo.y,
+                                             plane.z >= 0.0 ? box.hi.z : box.lo.z) -
+                                  origin;
         if (plane.x * corner.x + plane.y * corner.y + plane.z * corner.z + plane.w < 0.0) return false;
     }
     return true;

@@ -416,11 +416,16 @@ MediumStats MediumCompositor::resolve(unsigned behind_texture) {
 
 PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int height) {
     if (bounds.empty() || width <= 0 || height <= 0) return {};
-    const glm::dmat4 vp = camera.projection_matrix(double(width) / double(height)) * camera.view_matrix();
+    // Relative to the eye, so that a box far from the world's origin projects as precisely.
+    Camera relative = camera;
+    relative.eye = glm::dvec3(0.0);
+    relative.target = camera.target - camera.eye;
+    const glm::dmat4 vp = relative.projection_matrix(double(width) / double(height)) * relative.view_matrix();
     double lo_x = HUGE_VAL, lo_y = HUGE_VAL, hi_x = -HUGE_VAL, hi_y = -HUGE_VAL;
     for (int k = 0; k < 8; ++k) {
-        const glm::dvec4 c = vp * glm::dvec4((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
-                                             (k & 4) ? bounds.hi.z : bounds.lo.z, 1.0);
+        const glm::dvec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
+                                (k & 4) ? bounds.hi.z : bounds.lo.z);
+        const glm::dvec4 c = vp * glm::dvec4(corner - camera.eye, 1.0);
         // A corner at or behind the near plane: the box's projection is unbounded, take the view.
         if (!(c.w >= camera.near_distance) && !camera.orthographic()) return {0, 0, width, height};
         lo_x = std::min(lo_x, c.x / c.w), hi_x = std::max(hi_x, c.x / c.w);

@@ -94,9 +94,11 @@ bool CulledView::covers(const fx::EffectView& view) const {
                a.near_distance == b.near_distance && a.far_distance == b.far_distance;
     if (a.fov_y_degrees != b.fov_y_degrees || a.near_distance != b.near_distance || a.far_distance != b.far_distance)
         return false;
-    for (const glm::dvec3& p : frustum_corners(a, aspect_of(view)))
+    for (const glm::dvec3& corner : frustum_corners(a, aspect_of(view))) {
+        const glm::dvec3 p = corner - frustum_.origin; // the planes are relative to the eye
         for (const glm::dvec4& plane : frustum_.planes)
             if (plane.x * p.x + plane.y * p.y + plane.z * p.z + plane.w < 0.0) return false;
+    }
     return true;
 }
 

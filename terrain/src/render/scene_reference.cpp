@@ -11,11 +11,15 @@ namespace cellfx::terrain {
 
 namespace {
 
-// Appends the effect's mesh, moved into the world, to `out` (its blocks stay blocks; one
-// scalar field, the effect's). Returns the number of blocks added.
-std::size_t append_world_mesh(const fx::Effect& effect, fx::CellMesh& out) {
+// Appends the effect's mesh, moved into the world relative to `origin` (the eye), to `out`
+// (its blocks stay blocks; one scalar field, the effect's). Returns the number of blocks added.
+// The pose's translation has `origin` taken off before it is applied: an effect 2 units across
+// at 1e17 from the world's origin keeps its shape, where world coordinates in double would
+// collapse it (as the GPU paths draw it, in its own frame).
+std::size_t append_world_mesh(const fx::Effect& effect, const glm::dvec3& origin, fx::CellMesh& out) {
     const fx::CellMesh& mesh = effect.mesh();
-    const glm::dmat4& m = effect.transform();
+    glm::dmat4 m = effect.transform();
+    m[3] -= glm::dvec4(origin, 0.0);
     const std::uint32_t base = std::uint32_t(out.points.size());
     for (const glm::dvec3& p : mesh.points) out.points.push_back(glm::dvec3(m * glm::dvec4(p, 1.0)));
     if (out.scalars.empty()) out.scalars.push_back({"scalar", {}});
@@ -39,29 +43,36 @@ std::size_t append_world_mesh(const fx::Effect& effect, fx::CellMesh& out) {
 fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera& camera, int width, int height,
                                  unsigned threads) {
     fx::Image image(width, height, glm::vec4(0.0f));
+    // Everything relative to the eye: the camera there, the volumes and lights moved alike.
+    const glm::dvec3 origin = camera.eye;
+    fx::Camera relative = camera;
+    relative.eye = glm::dvec3(0.0);
+    relative.target = camera.target - origin;
     fx::CellMesh medium_mesh;
     std::vector<fx::MediumVolume> media;
     fx::ScanlineOptions options;
     options.threads = threads;
     for (const SceneRenderer::DrawnVolume& v : renderer.drawn_volumes()) {
         if (v.in_medium) {
-            const std::size_t blocks = append_world_mesh(*v.effect, medium_mesh);
-            media.insert(media.end(), blocks, v.medium);
+            const std::size_t blocks = append_world_mesh(*v.effect, origin, medium_mesh);
+            fx::MediumVolume medium = v.medium;
+            medium.light.origin -= origin;
+            media.insert(media.end(), blocks, medium);
             continue;
         }
         // pcp (emission) and mip (maximum) effects: their own model, added as the renderer adds them.
         fx::CellMesh world;
-        append_world_mesh(*v.effect, world);
+        append_world_mesh(*v.effect, origin, world);
         fx::ScanlineOptions own = options;
         own.model = v.path == fx::RenderPath::Mip ? fx::OpticalModel::Maximum : fx::OpticalModel::Emission;
-        const fx::Image layer = fx::ScanlineRenderer(world).render(camera, width, height, world.scalars[0], v.medium.tf, own);
+        const fx::Image layer = fx::ScanlineRenderer(world).render(relative, width, height, world.scalars[0], v.medium.tf, own);
         for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += glm::vec4(glm::vec3(layer.pixels[i]), 0.0f);
     }
     if (medium_mesh.cell_count() > 0) {
         const fx::Medium medium(media);
         options.medium = &medium;
         const fx::Image volumes = fx::ScanlineRenderer(medium_mesh)
-                                      .render(camera, width, height, medium_mesh.scalars[0], fx::TransferFunction(), options);
+                                      .render(relative, width, height, medium_mesh.scalars[0], fx::TransferFunction(), options);
         // The additive effects lie over the medium: medium first, then their light.
         for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += volumes.pixels[i];
     }
