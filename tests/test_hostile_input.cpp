@@ -685,6 +685,14 @@ TEST_CASE("hostile input: messages that say what to fix", "[hostile]") {
                             {"bad_field.vtk", "field 'p' is", "at point 0", "and 3 more points"});
         }
     }
+    SECTION("a key given twice in one JSON object is named, not one of the two silently kept") {
+        const std::string mesh = write_vtk("dup_box.vtk", fx_test::hex_box(1, 1, 1));
+        const std::string tf = write("dup_tf.json", R"({"points": [[0, 1, 0.5, 0.2, 1], [1, 1, 0.5, 0.2, 1]], "points": [[0, 0, 0, 0, 0]]})");
+        require_refused(run_cellfx(scanline(mesh, file("x.pfm"), {"--tf", tf})), {"dup_tf.json", "\"points\" appears twice"});
+        const std::string scene = write_scene("dup_scene.json", R"({"effects": [{"type": "laser_cone", "transfer_function": "TF", "slices": 4, "slices": 64}],
+ "camera": {"eye": [3, -4, 2], "target": [0, 0, 0]}})");
+        require_refused(run_cellfx({"render", scene, "--out", file("x.png")}), {"dup_scene.json", "\"slices\" appears twice"});
+    }
     SECTION("coordinates of 1e300 are named as such, not blamed on the camera") {
         fx::CellMesh far = one_tet();
         for (glm::dvec3& p : far.points) p *= 1e300;

@@ -14,6 +14,7 @@
 
 #include "fx/error.hpp"
 #include "io/input_file.hpp"
+#include "io/json_input.hpp"
 
 namespace cellfx::fx {
 namespace {
@@ -102,15 +103,7 @@ TransferFunction::TransferFunction(std::vector<TransferPoint> points, bool norma
 
 TransferFunction TransferFunction::parse_json(std::string_view text, const std::string& source) {
     const std::string where = source + ": ";
-    io::check_json_encoding(text, source);
-    nlohmann::json root;
-    try {
-        root = nlohmann::json::parse(text.begin(), text.end());
-    } catch (const nlohmann::json::parse_error& e) {
-        throw Error(where + "JSON syntax error at byte " + std::to_string(e.byte) + ": " + e.what());
-    } catch (const nlohmann::json::exception& e) { // e.g. a number too large for a double
-        throw Error(where + "JSON error: " + e.what());
-    }
+    const nlohmann::json root = io::parse_json_input(text, source);
     if (!root.is_object()) throw Error(where + "expected a JSON object {\"points\": [[s, r, g, b, sigma], ...]}");
     for (const auto& item : root.items())
         if (item.key() != "points" && item.key() != "normalized" && item.key() != "description")

@@ -15,6 +15,7 @@
 #include "fx/mesh_io.hpp"
 #include "fx/resource_limits.hpp"
 #include "io/input_file.hpp"
+#include "io/json_input.hpp"
 #include "terrain/scene.hpp"
 
 namespace cellfx::terrain {
@@ -585,15 +586,7 @@ fx::Camera parse_camera(Section s) {
 } // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source, const std::string& base_dir) {
-    fx::io::check_json_encoding(text, source);
-    json doc;
-    try {
-        doc = json::parse(text.begin(), text.end());
-    } catch (const json::parse_error& e) {
-        throw fx::Error(source + ": JSON syntax error at byte " + std::to_string(e.byte) + ": " + e.what());
-    } catch (const json::exception& e) { // a number too large for a double (1e999)
-        throw fx::Error(source + ": JSON error: " + e.what());
-    }
+    const json doc = fx::io::parse_json_input(text, source);
     Section root(doc, "", source);
     SceneFiles files{base_dir, {}};
     Scene scene;
