@@ -23,7 +23,7 @@ vec4 table(int row, int i) { return texelFetch(u_tables, row * (int(u_table.z) +
 
 layout(location = UNIFORM_SCENE_DEPTH_RANGE) uniform vec2 u_scene_depth_range; // the projection's near and far distances
 // An orthographic view's window z: near and the far it rasterises with (past the mesh, which
-// the camera's far may cut: GlProjector::raster_far). Perspective passes read 1/w instead.
+// the camera's far may cut: GlProjector::set_view_uniforms). Perspective passes read 1/w.
 layout(location = UNIFORM_RASTER_DEPTH_RANGE) uniform vec2 u_raster_depth_range;
 float orthographic_view_depth(float window_z) { return mix(u_raster_depth_range.x, u_raster_depth_range.y, window_z); }
 #ifdef SCENE_DEPTH

@@ -45,11 +45,7 @@ void fit_near(const std::string& spec, const fx::Bounds& bounds, fx::Camera& cam
     camera.validate("--camera");
     const glm::dvec3 forward = camera.forward();
     double nearest = HUGE_VAL;
-    for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
-                                (k & 4) ? bounds.hi.z : bounds.lo.z);
-        nearest = std::min(nearest, glm::dot(corner - camera.eye, forward));
-    }
+    for (int k = 0; k < 8; ++k) nearest = std::min(nearest, glm::dot(bounds.corner(k) - camera.eye, forward));
     // Half way to the mesh's nearest corner, or a small part of the mesh when the eye is inside it.
     const double fit = nearest > 0.0 ? 0.5 * nearest : 1e-4 * glm::length(bounds.hi - bounds.lo);
     if (fit > 0.0) camera.near_distance = std::min(camera.near_distance, fit);

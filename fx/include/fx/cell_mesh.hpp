@@ -77,6 +77,8 @@ struct Bounds {
     bool empty() const { return lo.x > hi.x; }
     glm::dvec3 center() const { return 0.5 * (lo + hi); }
     glm::dvec3 size() const { return hi - lo; }
+    // Corner k of 8: bit 0 of k picks hi.x over lo.x, bit 1 hi.y, bit 2 hi.z.
+    glm::dvec3 corner(int k) const { return {(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z}; }
 };
 
 struct CellMesh {

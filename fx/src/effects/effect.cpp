@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 
 #include "fx/error.hpp"
@@ -133,9 +134,7 @@ Bounds transform_bounds(const Bounds& bounds, const glm::dmat4& m) {
     if (bounds.empty()) return bounds;
     Bounds out{glm::dvec3(HUGE_VAL), glm::dvec3(-HUGE_VAL)};
     for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 c((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
-                           (k & 4) ? bounds.hi.z : bounds.lo.z);
-        const glm::dvec3 p(m * glm::dvec4(c, 1.0));
+        const glm::dvec3 p(m * glm::dvec4(bounds.corner(k), 1.0));
         out.lo = glm::min(out.lo, p);
         out.hi = glm::max(out.hi, p);
     }
@@ -146,9 +145,7 @@ Frustum::Frustum(const Camera& camera, double aspect) : origin(camera.eye) {
     // Row r of the view-projection (of the camera moved to the origin): clip coordinate r of a
     // point relative to the eye. Plane p of the six:
     // w + x ≥ 0, w − x ≥ 0, w + y ≥ 0, w − y ≥ 0, w + z ≥ 0, w − z ≥ 0.
-    Camera relative = camera;
-    relative.eye = glm::dvec3(0.0);
-    relative.target = camera.target - camera.eye;
+    const Camera relative = camera_in_frame(camera, glm::translate(glm::dmat4(1.0), camera.eye));
     const glm::dmat4 vp = relative.projection_matrix(aspect) * relative.view_matrix();
     const auto row = [&vp](int r) { return glm::dvec4(vp[0][r], vp[1][r], vp[2][r], vp[3][r]); };
     for (int p = 0; p < 6; ++p) planes[p] = row(3) + ((p % 2) ? -1.0 : 1.0) * row(p / 2);
@@ -158,9 +155,8 @@ bool Frustum::intersects(const Bounds& box) const {
     if (box.empty()) return false;
     for (const glm::dvec4& plane : planes) {
         // The corner furthest along the plane's normal: outside with it, outside with all.
-        const glm::dvec3 corner = glm::dvec3(plane.x >= 0.0 ? box.hi.x : box.lo.x, plane.y >= 0.0 ? box.hi.y : box.lo.y,
-                                             plane.z >= 0.0 ? box.hi.z : box.lo.z) -
-                                  origin;
+        const glm::dvec3 corner =
+            box.corner((plane.x >= 0.0 ? 1 : 0) | (plane.y >= 0.0 ? 2 : 0) | (plane.z >= 0.0 ? 4 : 0)) - origin;
         if (plane.x * corner.x + plane.y * corner.y + plane.z * corner.z + plane.w < 0.0) return false;
     }
     return true;

@@ -10,10 +10,12 @@
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "fx/effect.hpp" // camera_in_frame
 #include "fx/error.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
@@ -417,15 +419,11 @@ MediumStats MediumCompositor::resolve(unsigned behind_texture) {
 PixelRect screen_rect(const Bounds& bounds, const Camera& camera, int width, int height) {
     if (bounds.empty() || width <= 0 || height <= 0) return {};
     // Relative to the eye, so that a box far from the world's origin projects as precisely.
-    Camera relative = camera;
-    relative.eye = glm::dvec3(0.0);
-    relative.target = camera.target - camera.eye;
+    const Camera relative = camera_in_frame(camera, glm::translate(glm::dmat4(1.0), camera.eye));
     const glm::dmat4 vp = relative.projection_matrix(double(width) / double(height)) * relative.view_matrix();
     double lo_x = HUGE_VAL, lo_y = HUGE_VAL, hi_x = -HUGE_VAL, hi_y = -HUGE_VAL;
     for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 corner((k & 1) ? bounds.hi.x : bounds.lo.x, (k & 2) ? bounds.hi.y : bounds.lo.y,
-                                (k & 4) ? bounds.hi.z : bounds.lo.z);
-        const glm::dvec4 c = vp * glm::dvec4(corner - camera.eye, 1.0);
+        const glm::dvec4 c = vp * glm::dvec4(bounds.corner(k) - camera.eye, 1.0);
         // A corner at or behind the near plane: the box's projection is unbounded, take the view.
         if (!(c.w >= camera.near_distance) && !camera.orthographic()) return {0, 0, width, height};
         lo_x = std::min(lo_x, c.x / c.w), hi_x = std::max(hi_x, c.x / c.w);

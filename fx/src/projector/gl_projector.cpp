@@ -193,10 +193,10 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
         throw Error("cell renderer: the mesh has " + std::to_string(nt) + " face triangles, more than " +
                     std::to_string(kMaxWordTriangle) + " (split it into several renderers)");
     check_texture_buffer_size(std::max(nt, mesh_.connectivity.size()), "face triangles");
-    bounds_lo_ = glm::dvec3(1e300), bounds_hi_ = glm::dvec3(-1e300);
+    bounds_ = Bounds{glm::dvec3(1e300), glm::dvec3(-1e300)};
     for (std::size_t i = 0; i < np; ++i) {
-        bounds_lo_ = glm::min(bounds_lo_, glm::dvec3(geometry_.positions[i]));
-        bounds_hi_ = glm::max(bounds_hi_, glm::dvec3(geometry_.positions[i]));
+        bounds_.lo = glm::min(bounds_.lo, glm::dvec3(geometry_.positions[i]));
+        bounds_.hi = glm::max(bounds_.hi, glm::dvec3(geometry_.positions[i]));
     }
     upload_point_data();
 
@@ -313,37 +313,32 @@ void GlProjector::upload_tables(const TransferFunction& tf) {
     FX_GL_CHECK("upload tables");
 }
 
-glm::mat4 GlProjector::view_projection(const Camera& camera, const Viewport& viewport) const {
-    const double aspect = double(viewport.width) / double(viewport.height);
+glm::dmat4 GlProjector::raster_projection(const Camera& camera, double aspect, double ortho_far) {
     glm::dmat4 projection = camera.projection_matrix(aspect);
     const double n = camera.near_distance;
     if (!camera.orthographic()) {
-        // Rasterised without a far plane (the frustum's depth row with far at infinity; x, y
-        // and w unchanged, near still clips): cells are not cut at far, as the scan-line
-        // reference does not cut them, and the passes read depth from 1/w, never from z.
-        // With a finite far, n/f below float's 6e-8 rounds the depth row into clipping the
-        // back faces of cells well in front of the far plane.
+        // The frustum's depth row with far at infinity (x, y and w unchanged, near still
+        // clips): the passes read depth from 1/w, never from z. With a finite far, n/f below
+        // float's 6e-8 rounds the depth row into clipping the back faces of cells well in
+        // front of the far plane.
         projection[2][2] = -1.0;
         projection[3][2] = -2.0 * n;
     } else {
-        // The box's depth row from near to raster_far (window z is read back through the same
+        // The box's depth row from near to ortho_far (window z is read back through the same
         // range, UNIFORM_RASTER_DEPTH_RANGE).
-        const double f = raster_far(camera);
-        projection[2][2] = -2.0 / (f - n);
-        projection[3][2] = -(f + n) / (f - n);
+        projection[2][2] = -2.0 / (ortho_far - n);
+        projection[3][2] = -(ortho_far + n) / (ortho_far - n);
     }
-    return glm::mat4(projection * view(camera).view);
+    return projection;
 }
 
-double GlProjector::raster_far(const Camera& camera) const {
-    const ProjectorView v = view(camera);
-    double deepest = 0.0; // beyond the near plane
+glm::dvec2 GlProjector::bounds_depth_range(const ProjectorView& v) const {
+    glm::dvec2 range(HUGE_VAL, -HUGE_VAL);
     for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 c((k & 1) ? bounds_hi_.x : bounds_lo_.x, (k & 2) ? bounds_hi_.y : bounds_lo_.y,
-                           (k & 4) ? bounds_hi_.z : bounds_lo_.z);
-        deepest = std::max(deepest, v.depth(c));
+        const double d = v.depth(bounds_.corner(k));
+        range = glm::dvec2(std::min(range.x, d), std::max(range.y, d));
     }
-    return std::max(camera.far_distance, camera.near_distance + deepest * 1.01);
+    return range;
 }
 
 void GlProjector::bind_mesh() const {
@@ -377,7 +372,11 @@ void GlProjector::draw_slots(std::size_t first_slot, std::size_t slots) const {
 
 void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const {
     const ProjectorView v = view(camera);
-    const glm::mat4 vp = view_projection(camera, viewport);
+    // No cell is cut at the far plane, as the scan-line reference cuts none: an orthographic
+    // view rasterises with far moved past the mesh's deepest corner where that lies beyond it.
+    const double ortho_far =
+        v.orthographic ? std::max(camera.far_distance, camera.near_distance + 1.01 * std::max(bounds_depth_range(v).y, 0.0)) : 0.0;
+    const glm::mat4 vp(raster_projection(camera, double(viewport.width) / double(viewport.height), ortho_far) * v.view);
     const glm::vec3 eye(v.eye), forward(v.forward);
     const double span = s_hi_ - s_lo_;
     const glm::vec4 table(float(s_lo_), float(s_hi_), float(kTableSize), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f);
@@ -387,7 +386,7 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
     glProgramUniform3fv(p, kUniformForward, 1, glm::value_ptr(forward));
     glProgramUniform1f(p, kUniformNear, float(v.near_distance));
     glProgramUniform1i(p, kUniformOrthographic, v.orthographic ? 1 : 0);
-    if (v.orthographic) glProgramUniform2f(p, kUniformRasterDepthRange, float(camera.near_distance), float(raster_far(camera)));
+    if (v.orthographic) glProgramUniform2f(p, kUniformRasterDepthRange, float(camera.near_distance), float(ortho_far));
     glProgramUniform4fv(p, kUniformTable, 1, glm::value_ptr(table));
 
     // The ray of pixel centre (x, y) of the pass's target (the viewport's size, at the origin)
@@ -481,13 +480,7 @@ void GlProjector::upload_pieces(const std::vector<std::uint32_t>& tetrahedra) {
 }
 
 bool GlProjector::mesh_crosses_near_plane(const ProjectorView& v) const {
-    if (geometry_.positions.empty()) return false;
-    for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 c((k & 1) ? bounds_hi_.x : bounds_lo_.x, (k & 2) ? bounds_hi_.y : bounds_lo_.y,
-                           (k & 4) ? bounds_hi_.z : bounds_lo_.z);
-        if (v.depth(c) <= 0.0) return true;
-    }
-    return false;
+    return !geometry_.positions.empty() && bounds_depth_range(v).x <= 0.0;
 }
 
 void GlProjector::append_cap_vertices(const NearCaps& caps, const ProjectedCells& projected, std::size_t k,

@@ -120,13 +120,6 @@ public:
 
     // ---- per frame ----------------------------------------------------------------------------
     ProjectorView view(const Camera& camera) const { return make_projector_view(geometry_, camera); }
-    // Relative frame → clip space for this viewport. Cells are not cut at the camera's far
-    // plane: a perspective view rasterises with far at infinity, an orthographic one with far
-    // moved past the mesh (raster_far).
-    glm::mat4 view_projection(const Camera& camera, const Viewport& viewport) const;
-    // The far distance an orthographic view rasterises with: the camera's, or past the mesh's
-    // farthest corner where that lies beyond it (UNIFORM_RASTER_DEPTH_RANGE's far).
-    double raster_far(const Camera& camera) const;
     // Sets project.glsl's view, table and fragment-ray uniforms on `program`, for drawing into a
     // target of the viewport's size at the origin (the pass's own; the viewport's position
     // matters to the resolve and the scene depth only).
@@ -168,12 +161,19 @@ private:
     void scalar_functions(std::vector<glm::vec4>& out) const; // per triangle, from the geometry's scalars
     gl::Texture& attach(gl::Texture& texture, GLenum format, GLuint buffer);
     std::size_t gpu_capacity_bytes() const;
+    // The nearest and deepest corners of the mesh's bounds beyond the near plane of `view`
+    // (ProjectorView::depth).
+    glm::dvec2 bounds_depth_range(const ProjectorView& view) const;
+    // The projection the passes rasterise with (set_view_uniforms): the camera's, except that
+    // no cell is cut at its far plane: a perspective view's far at infinity, an orthographic
+    // one's at `ortho_far`.
+    static glm::dmat4 raster_projection(const Camera& camera, double aspect, double ortho_far);
 
     std::shared_ptr<gl::ProgramCache> programs_;
     CellMesh mesh_;
     ProjectorGeometry geometry_;
     ScalarRange field_range_;
-    glm::dvec3 bounds_lo_{0.0}, bounds_hi_{0.0}; // of the relative positions
+    Bounds bounds_; // of the relative positions
     TransferFunction source_tf_; // as given: normalized ones are rescaled when the field changes
     TransferFunction transfer_;  // as in use
     int vertices_per_cell_ = 8;

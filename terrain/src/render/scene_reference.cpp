@@ -2,9 +2,11 @@
 // reference of a scene's frame (terrain/scene_reference.hpp).
 #include "terrain/scene_reference.hpp"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "fx/effect.hpp" // camera_in_frame
 #include "fx/scanline_renderer.hpp"
 
 namespace cellfx::terrain {
@@ -45,9 +47,7 @@ fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera
     fx::Image image(width, height, glm::vec4(0.0f));
     // Everything relative to the eye: the camera there, the volumes and lights moved alike.
     const glm::dvec3 origin = camera.eye;
-    fx::Camera relative = camera;
-    relative.eye = glm::dvec3(0.0);
-    relative.target = camera.target - origin;
+    const fx::Camera relative = fx::camera_in_frame(camera, glm::translate(glm::dmat4(1.0), origin));
     fx::CellMesh medium_mesh;
     std::vector<fx::MediumVolume> media;
     fx::ScanlineOptions options;
