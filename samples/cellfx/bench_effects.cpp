@@ -24,27 +24,27 @@
 // to glFinish: median ms per frame, the update (simulation) and cellfx render (CPU) parts. The
 // last frame must differ from the background (the sample tests compare the pictures).
 //
-// Last, the CPU a game's frame spends in cellfx: each scene through cellfx::Module as a game calls
-// it (update, render over a game frame with a depth texture), its own paths, the camera moving
-// (its camera path, or the eye moving sideways by 1% of its distance per frame, so the terrain
-// LODs refine every frame): the calling thread's CPU time of update (cellfx alone) and render
-// (cellfx and the GL driver's work on that thread), with what update spends on the LODs, the
-// prisms and the other effects, and the state save/restore of a frame timed alone.
+// Last, the CPU a game's frame spends in cellfx (bench_game_cpu.cpp): each scene through
+// cellfx::Module as a game calls it, the camera flying, cellfx's own CPU apart from the GL
+// driver's, allocations per frame, and what teleports, resizes, toggles and reloads cost.
 //
-// Options: --scenes a,b (all), --frames N (8, after 2 warm-up frames), --size WxH (the scenes'),
-//          --paths a,b (all), --skip-verify, --samples a,b (all five), --no-samples,
-//          --only-samples (skip the scene and CPU rows), --only-cpu (the CPU rows alone).
+// Options: --scenes a,b (all), --frames N (8, after 2 warm-up frames; 60 with --only-cpu), --size
+//          WxH (the scenes'), --paths a,b (all; the CPU rows: the scenes' own paths unless given),
+//          --skip-verify, --samples a,b (all five), --no-samples, --only-samples (skip the scene and
+//          CPU rows), --only-cpu (the CPU rows alone), --json FILE (the CPU rows as
+//          {"scenes": [{"scene", "path", "cellfx_cpu_ms": {"median", "p95"}, "driver_cpu_ms": ...,
+//          "allocations_per_frame", ...}]}).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
 
-#include <ctime>
-
 #include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
 
 #include "bench_support.hpp"
 #include "cellfx/cellfx.hpp"
@@ -54,7 +54,6 @@
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "gl/state_guard.hpp"
 #include "options.hpp"
 #include "sample.hpp"
 #include "terrain/scene.hpp"
@@ -63,6 +62,11 @@
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
+
+// bench_game_cpu.cpp: the CPU rows, returned as the JSON rows of --json.
+nlohmann::json bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames,
+                              int warmup, const ParsedArgs& parsed);
+
 namespace {
 
 const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley", "aurora", "fog_valley_night"};
@@ -159,100 +163,14 @@ void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& 
                 "  driver's work on that thread; on llvmpipe that includes the vertex stage and binning of every draw).\n");
 }
 
-double thread_cpu_ms() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
-}
-
-// Frame f of the CPU rows: 1/30 s apart along the scene's camera path, or the eye moving
-// sideways by 1% of its distance to the target per frame (the terrain LODs refine every frame:
-// the fog valley flight).
-fx::Camera moving_camera(const terrain::Scene& scene, int frame) {
-    if (scene.camera_path) return scene.camera_path->at(1.0 + frame / 30.0, scene.camera);
-    fx::Camera cam = scene.camera;
-    const glm::dvec3 side = glm::normalize(glm::cross(cam.forward(), cam.up)) * (0.01 * glm::length(cam.target - cam.eye));
-    cam.eye += side * double(frame);
-    cam.target += side * double(frame);
-    return cam;
-}
-
-// cellfx's CPU time per frame in a game (see the header comment): each shipped scene through
-// cellfx::Module as a game calls it, at its render size, its own render paths, the camera moving.
-void bench_cpu(const std::vector<std::string>& scenes, int frames, int warmup, const ParsedArgs& parsed) {
-    std::printf("\n  CPU per frame in a game: cellfx::Module update + render over a game's RGBA8 + DEPTH24 frame, the\n"
-                "  scenes' own paths, the camera moving; thread CPU ms (waiting excluded), medians of %d frames\n", frames);
-    std::printf("  %-12s %9s %10s %7s %7s %7s %10s %8s %9s %10s %9s\n", "scene", "size", "update cpu", "lod", "prisms",
-                "effects", "render cpu", "uploads", "cpu total", "prisms", "wall ms");
-    for (const std::string& name : scenes) {
-        terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + name + ".json");
-        if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
-        const int w = scene.width, h = scene.height;
-        cellfx::Module fx;
-        fx.init(cellfx::Config::from_scene(scene, w, h));
-        GLuint framebuffer = 0, color = 0, depth = 0;
-        glCreateFramebuffers(1, &framebuffer);
-        glCreateTextures(GL_TEXTURE_2D, 1, &color);
-        glTextureStorage2D(color, 1, GL_RGBA8, w, h);
-        glCreateTextures(GL_TEXTURE_2D, 1, &depth);
-        glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT24, w, h);
-        glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, color, 0);
-        glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth, 0);
-        std::vector<double> update, lod, prisms, effects, render, uploads, total, wall;
-        std::size_t prism_count = 0;
-        for (int f = 0; f < warmup + frames; ++f) {
-            const GLfloat sky[4] = {0.5f, 0.6f, 0.7f, 1.0f};
-            glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, sky);
-            glClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
-            const auto t0 = Clock::now();
-            const double c0 = thread_cpu_ms();
-            fx.update(1.0 / 30.0, moving_camera(scene, f));
-            const double c1 = thread_cpu_ms();
-            fx.render({framebuffer, {0, 0, w, h}, depth});
-            const double c2 = thread_cpu_ms();
-            glFinish();
-            if (f < warmup) continue;
-            const terrain::FrameStats& s = fx.stats();
-            double simulated = 0.0;
-            for (const terrain::EffectFrameStats& e : s.effects)
-                if (e.name != "fog" && e.name != "aurora") simulated += e.simulate_ms;
-            update.push_back(c1 - c0), lod.push_back(s.lod_ms), prisms.push_back(s.mesh_ms), effects.push_back(simulated);
-            render.push_back(c2 - c1), uploads.push_back(s.upload_ms), total.push_back(c2 - c0), wall.push_back(ms_since(t0));
-            prism_count = s.fog_prisms.prisms + s.aurora_prisms.prisms;
-        }
-        glDeleteFramebuffers(1, &framebuffer);
-        glDeleteTextures(1, &color);
-        glDeleteTextures(1, &depth);
-        const std::string size = std::to_string(w) + "x" + std::to_string(h);
-        std::printf("  %-12s %9s %10.3f %7.3f %7.3f %7.3f %10.3f %8.3f %9.3f %10zu %9.1f\n", name.c_str(), size.c_str(),
-                    median(update), median(lod), median(prisms), median(effects), median(render), median(uploads),
-                    median(total), prism_count, median(wall));
-        std::fflush(stdout);
-    }
-    // The one state save and restore a frame makes (fx::gl::StateGuard), timed alone.
-    std::vector<double> guard;
-    for (int k = 0; k < 9; ++k) {
-        const double c0 = thread_cpu_ms();
-        for (int i = 0; i < 100; ++i) {
-            fx::gl::StateGuard g;
-            fx::gl::StateGuard::set_render_defaults();
-        }
-        guard.push_back((thread_cpu_ms() - c0) / 100.0);
-    }
-    std::printf("  update cpu: cellfx alone (no GL): lod = LOD refinement, prisms = fog/aurora prisms (culled to the view),\n"
-                "  effects = the other effects' simulation (wall ms); render cpu: cellfx and the GL driver on the game's\n"
-                "  thread (llvmpipe: the vertex stage and binning of every draw too), of which uploads = set_mesh /\n"
-                "  set_scalars (wall ms); prisms: culled fog + aurora prisms drawn. The frame's GL state save + restore\n"
-                "  (StateGuard with set_render_defaults): %.3f ms.\n", median(guard));
-}
-
 } // namespace
 
 int bench_effects(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples", "only-cpu"});
-    require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu"});
+    require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu",
+                           "json"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
-    const int frames = parse_int(parsed.get("frames", "8"), "--frames");
+    const int frames = parse_int(parsed.get("frames", parsed.has("only-cpu") ? "60" : "8"), "--frames");
     if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
     std::vector<std::string> scenes = parsed.has("scenes") ? split_list(parsed.get("scenes")) : std::vector<std::string>();
     if (scenes.empty()) scenes.assign(std::begin(kScenes), std::end(kScenes));
@@ -271,9 +189,21 @@ int bench_effects(const std::vector<std::string>& args) {
     constexpr int kWarmup = 2;
 
     const fx::HeadlessContext context;
+    // The CPU rows: the scenes' own paths unless --paths names some.
+    const std::vector<std::string> cpu_paths = parsed.has("paths") ? split_list(parsed.get("paths")) : std::vector<std::string>();
+    nlohmann::json json_rows = nlohmann::json::array();
+    const auto write_json = [&] {
+        if (!parsed.has("json")) return;
+        const std::string path = parsed.get("json");
+        std::ofstream out(path);
+        out << nlohmann::json{{"scenes", json_rows}}.dump(2) << '\n';
+        if (!out.flush()) throw fx::Error("bench effects: --json: cannot write " + path);
+        std::printf("  wrote %s\n", path.c_str());
+    };
     if (parsed.has("only-cpu")) {
         std::printf("effects: cellfx's CPU per frame in a game\n  gl: %s\n", context.description().c_str());
-        bench_cpu(scenes, frames, kWarmup, parsed);
+        json_rows = bench_game_cpu(scenes, cpu_paths, frames, kWarmup, parsed);
+        write_json();
         return 0;
     }
     std::printf("effects: shipped scenes x render paths, through SceneRenderer (update + render, GPU-timed per stage)\n");
@@ -417,7 +347,8 @@ int bench_effects(const std::vector<std::string>& args) {
                     "  set_mesh %.3f ms, set_scalars %.3f ms\n", fire.mesh().cell_count(), median(mesh_ms), median(scalar_ms));
     }
     if (!parsed.has("no-samples")) bench_samples(parsed, paths, frames, kWarmup, kDt);
-    if (!parsed.has("only-samples")) bench_cpu(cpu_scenes, frames, kWarmup, parsed);
+    if (!parsed.has("only-samples")) json_rows = bench_game_cpu(cpu_scenes, cpu_paths, frames, kWarmup, parsed);
+    write_json();
     return 0;
 }
 

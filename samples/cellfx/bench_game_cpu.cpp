@@ -1,0 +1,281 @@
+// `cellfx bench effects --only-cpu` (and the last table of the full bench): what a game's frame
+// costs cellfx's CPU. Each shipped scene through cellfx::Module as a game calls it — update(),
+// then render() over the game's RGBA8 frame with a DEPTH24 depth texture — at its render size,
+// the camera flying: along the scene's camera path, 1/30 s a frame, or (scenes without one: the
+// fog valley, the aurora) the eye sliding sideways by 1% of its distance to the target a frame,
+// so the terrain LODs refine every frame.
+//
+// Per frame, on the game's thread (the thread CPU clock: time spent waiting is not counted):
+//   cellfx CPU   update() and render() minus the GL driver's part: everything cellfx computes,
+//                builds and copies, its uploads (the driver's copy of its data) included;
+//   driver CPU   the GL calls that make the driver work on this thread (draws, dispatches,
+//                clears, copies, queries, compiles: GlCallClock). A GPU's driver queues them;
+//                llvmpipe runs each draw's vertex stage and binning here, so on llvmpipe this
+//                grows with the cells drawn and says little about a GPU machine.
+// and the C++ allocations of the two calls (allocation_counter.hpp). Medians and 95th
+// percentiles over the steady frames of the flight; allocations: the most any steady frame made.
+//
+// After the flight, what a game does now and then, each the frame it happens (warm frames around
+// it, reported apart from the steady ones): the camera teleports across the scene, the window is
+// resized (render at 3/4 size), an effect is switched off and on, the scene is reloaded. A
+// change cellfx cannot apply in place falls back to rebuilding that effect, and these rows say
+// what that costs.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "allocation_counter.hpp"
+#include "bench_support.hpp"
+#include "cellfx/cellfx.hpp"
+#include "fx/error.hpp"
+#include "gl/state_guard.hpp"
+#include "gl_call_clock.hpp"
+#include "options.hpp"
+#include "terrain/scene.hpp"
+#include "cellfx_names.hpp"
+
+namespace cellfx_cli {
+
+using cellfx_samples::GlCallClock;
+
+namespace {
+
+// The p-th percentile (nearest rank) of the samples; 0 for none.
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t rank = std::size_t(std::ceil(p / 100.0 * double(v.size())));
+    return v[std::min(v.size() - 1, rank > 0 ? rank - 1 : 0)];
+}
+
+// Frame f of the flight (see the header comment).
+fx::Camera flight_camera(const terrain::Scene& scene, int frame) {
+    if (scene.camera_path) return scene.camera_path->at(1.0 + frame / 30.0, scene.camera);
+    fx::Camera cam = scene.camera;
+    const glm::dvec3 side = glm::normalize(glm::cross(cam.forward(), cam.up)) * (0.01 * glm::length(cam.target - cam.eye));
+    cam.eye += side * double(frame);
+    cam.target += side * double(frame);
+    return cam;
+}
+
+// A game's frame: RGBA8 colour and a DEPTH24 depth texture.
+struct GameFrame {
+    GLuint framebuffer = 0, color = 0, depth = 0;
+    int width = 0, height = 0;
+    GameFrame(int w, int h) : width(w), height(h) {
+        glCreateFramebuffers(1, &framebuffer);
+        glCreateTextures(GL_TEXTURE_2D, 1, &color);
+        glTextureStorage2D(color, 1, GL_RGBA8, w, h);
+        glCreateTextures(GL_TEXTURE_2D, 1, &depth);
+        glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT24, w, h);
+        glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, color, 0);
+        glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth, 0);
+    }
+    ~GameFrame() {
+        glDeleteFramebuffers(1, &framebuffer);
+        glDeleteTextures(1, &color);
+        glDeleteTextures(1, &depth);
+    }
+    GameFrame(const GameFrame&) = delete;
+    GameFrame& operator=(const GameFrame&) = delete;
+    void clear() const {
+        const GLfloat sky[4] = {0.5f, 0.6f, 0.7f, 1.0f};
+        glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, sky);
+        glClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    }
+};
+
+// One frame's figures.
+struct FrameCost {
+    double update_cpu = 0.0, render_cpu = 0.0, driver = 0.0, uploads = 0.0;
+    std::uint64_t allocations = 0;
+    double cellfx() const { return update_cpu + render_cpu - driver; }
+};
+
+// update() and render() of one frame, measured (the game's clears and glFinish are not).
+FrameCost measured_frame(cellfx::Module& fx, const fx::Camera& camera, const GameFrame& frame) {
+    frame.clear();
+    GlCallClock::install(); // entry points first called in the frames before
+    GlCallClock::reset();
+    GlCallClock::set_running(true);
+    FrameCost c;
+    const std::uint64_t a0 = allocations_so_far();
+    const double t0 = GlCallClock::thread_cpu_ms();
+    fx.update(1.0 / 30.0, camera);
+    const double t1 = GlCallClock::thread_cpu_ms();
+    fx.render({frame.framebuffer, {0, 0, frame.width, frame.height}, frame.depth});
+    const double t2 = GlCallClock::thread_cpu_ms();
+    c.allocations = allocations_so_far() - a0;
+    GlCallClock::set_running(false);
+    c.update_cpu = t1 - t0;
+    c.render_cpu = t2 - t1;
+    c.driver = GlCallClock::driver_ms();
+    c.uploads = GlCallClock::upload_ms();
+    glFinish();
+    return c;
+}
+
+struct Spread {
+    double median = 0.0, p95 = 0.0;
+};
+Spread spread(const std::vector<double>& v) { return {median(v), percentile(v, 95.0)}; }
+
+struct EventCost {
+    std::string event;
+    FrameCost cost;
+};
+
+struct FlightRow {
+    std::string scene, path, size;
+    int frames = 0;
+    Spread cellfx, driver, update, uploads;
+    std::uint64_t allocations = 0; // the most of any steady frame
+    std::size_t prisms = 0;        // fog and aurora prisms of the last steady frame
+    std::vector<EventCost> events;
+};
+
+// The flight of one scene, every effect with `path` (empty: the scene's own paths).
+FlightRow fly(const std::string& name, const std::string& path_name, int frames, int warmup, const ParsedArgs& parsed) {
+    const std::string file = std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + name + ".json";
+    terrain::Scene scene = terrain::load_scene(file);
+    if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
+    const int w = scene.width, h = scene.height;
+    cellfx::Module fx;
+    fx.init(cellfx::Config::from_scene(scene, w, h));
+    if (!path_name.empty()) {
+        fx::RenderPath path;
+        if (!fx::parse_render_path(path_name, path)) throw fx::Error("bench effects: unknown render path '" + path_name + "'");
+        for (const std::string& e : fx.effect_names()) fx.set_path(e, path);
+    }
+    FlightRow row;
+    row.scene = name;
+    row.path = path_name.empty() ? "scene's own" : path_name;
+    row.size = std::to_string(w) + "x" + std::to_string(h);
+    row.frames = frames;
+    GameFrame frame(w, h);
+    std::vector<double> cellfx_ms, driver_ms, update_ms, upload_ms;
+    int f = 0;
+    for (; f < warmup + frames; ++f) {
+        const FrameCost c = measured_frame(fx, flight_camera(scene, f), frame);
+        if (f < warmup) continue;
+        cellfx_ms.push_back(c.cellfx()), driver_ms.push_back(c.driver), update_ms.push_back(c.update_cpu),
+            upload_ms.push_back(c.uploads);
+        row.allocations = std::max(row.allocations, c.allocations);
+        row.prisms = fx.stats().fog_prisms.prisms + fx.stats().aurora_prisms.prisms;
+    }
+    row.cellfx = spread(cellfx_ms), row.driver = spread(driver_ms), row.update = spread(update_ms),
+    row.uploads = spread(upload_ms);
+
+    // The events, each followed by two frames back on the flight.
+    auto event = [&](const std::string& what, const fx::Camera& camera, const GameFrame& target) {
+        row.events.push_back({what, measured_frame(fx, camera, target)});
+        for (int k = 0; k < 2; ++k, ++f) measured_frame(fx, flight_camera(scene, f), frame);
+    };
+    {
+        // Across the scene: the camera path 10 s on, or the eye moved by the terrain's extent.
+        fx::Camera far_away = scene.camera_path ? scene.camera_path->at(11.0 + f / 30.0, scene.camera) : flight_camera(scene, f);
+        if (!scene.camera_path) {
+            const double jump = scene.has_terrain() ? 0.5 * scene.ground.extent() : 100.0;
+            const glm::dvec3 side = glm::normalize(glm::cross(far_away.forward(), far_away.up));
+            far_away.eye -= side * jump, far_away.target -= side * jump;
+        }
+        event("teleport", far_away, frame);
+        event("teleport back", flight_camera(scene, f), frame);
+    }
+    {
+        const GameFrame smaller(3 * w / 4, 3 * h / 4);
+        event("resize", flight_camera(scene, f), smaller);
+        event("resize back", flight_camera(scene, f), frame);
+    }
+    {
+        const std::string first = fx.effect_names().front();
+        fx.set_enabled(first, false);
+        event("'" + first + "' off", flight_camera(scene, f), frame);
+        fx.set_enabled(first, true);
+        event("'" + first + "' on", flight_camera(scene, f), frame);
+    }
+    fx.reload(file);
+    event("reload", flight_camera(scene, f), frame);
+    return row;
+}
+
+nlohmann::json spread_json(const Spread& s) { return {{"median", s.median}, {"p95", s.p95}}; }
+
+nlohmann::json row_json(const FlightRow& r) {
+    nlohmann::json events = nlohmann::json::array();
+    for (const EventCost& e : r.events)
+        events.push_back({{"event", e.event},
+                          {"cellfx_cpu_ms", e.cost.cellfx()},
+                          {"driver_cpu_ms", e.cost.driver},
+                          {"allocations", e.cost.allocations}});
+    return {{"scene", r.scene},
+            {"path", r.path},
+            {"size", r.size},
+            {"frames", r.frames},
+            {"cellfx_cpu_ms", spread_json(r.cellfx)},
+            {"driver_cpu_ms", spread_json(r.driver)},
+            {"update_cpu_ms", spread_json(r.update)},
+            {"upload_cpu_ms", spread_json(r.uploads)},
+            {"allocations_per_frame", r.allocations},
+            {"prisms", r.prisms},
+            {"events", events}};
+}
+
+} // namespace
+
+nlohmann::json bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames,
+                              int warmup, const ParsedArgs& parsed) {
+    std::printf("\n  CPU per frame in a game: cellfx::Module update + render over a game's RGBA8 + DEPTH24 frame, the\n"
+                "  camera flying, thread CPU ms (waiting excluded), median / 95th percentile of %d steady frames\n",
+                frames);
+    std::printf("  %-17s %-12s %9s %15s %15s %13s %13s %7s %8s\n", "scene", "path", "size", "cellfx cpu", "driver cpu",
+                "update cpu", "uploads", "allocs", "prisms");
+    std::vector<FlightRow> rows;
+    const std::vector<std::string> own = {""};
+    for (const std::string& name : scenes) {
+        for (const std::string& path : paths.empty() ? own : paths) {
+            FlightRow r = fly(name, path, frames, warmup, parsed);
+            std::printf("  %-17s %-12s %9s %7.3f /%6.3f %7.3f /%6.3f %6.3f /%5.3f %6.3f /%5.3f %7llu %8zu\n", r.scene.c_str(),
+                        r.path.c_str(), r.size.c_str(), r.cellfx.median, r.cellfx.p95, r.driver.median, r.driver.p95,
+                        r.update.median, r.update.p95, r.uploads.median, r.uploads.p95,
+                        static_cast<unsigned long long>(r.allocations), r.prisms);
+            std::fflush(stdout);
+            rows.push_back(std::move(r));
+        }
+    }
+    std::printf("\n  events (each one frame, after the flight): cellfx cpu / driver cpu ms, allocations\n");
+    for (const FlightRow& r : rows) {
+        std::printf("  %-17s %-12s", r.scene.c_str(), r.path.c_str());
+        for (const EventCost& e : r.events)
+            std::printf("  %s %.2f/%.2f/%llu", e.event.c_str(), e.cost.cellfx(), e.cost.driver,
+                        static_cast<unsigned long long>(e.cost.allocations));
+        std::printf("\n");
+    }
+    // The one state save and restore a frame makes (fx::gl::StateGuard), timed alone.
+    std::vector<double> guard;
+    for (int k = 0; k < 9; ++k) {
+        const double c0 = GlCallClock::thread_cpu_ms();
+        for (int i = 0; i < 100; ++i) {
+            fx::gl::StateGuard g;
+            fx::gl::StateGuard::set_render_defaults();
+        }
+        guard.push_back((GlCallClock::thread_cpu_ms() - c0) / 100.0);
+    }
+    std::printf("  cellfx cpu: update + render minus the driver's calls (uploads, the driver's copy of cellfx's data,\n"
+                "  included); driver cpu: draws, dispatches, clears, copies, queries on the game's thread (llvmpipe runs\n"
+                "  the vertex stage there; a GPU's driver does not); update cpu: update() alone (no GL); uploads: the\n"
+                "  buffer and texture writes; allocs: the most C++ allocations of any steady frame; prisms: fog and\n"
+                "  aurora prisms drawn. The frame's GL state save + restore (StateGuard): %.3f ms.\n",
+                median(guard));
+    nlohmann::json json_rows = nlohmann::json::array();
+    for (const FlightRow& r : rows) json_rows.push_back(row_json(r));
+    return json_rows;
+}
+
+} // namespace cellfx_cli
