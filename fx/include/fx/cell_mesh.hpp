@@ -104,6 +104,22 @@ struct CellMesh {
     std::size_t memory_bytes() const;
 };
 
+// What changed in a mesh since someone last took it (an effect's mesh between two uploads, for
+// fx::CellRenderer::update_mesh): the ids of the points whose position or scalars changed and of
+// the cells whose points changed, each cell keeping its type; ids at or past the previous counts
+// are new, and the mesh may have fewer cells than before (the last ones gone). `whole`: anything
+// may have changed (a mesh to take anew).
+struct MeshChanges {
+    bool whole = true;
+    std::vector<std::uint32_t> points;
+    std::vector<std::uint32_t> cells;
+    // The changed cells are positively oriented or flat, as their maker built them (terrain
+    // prisms): a renderer need not check and flip them (fx::orient_cells).
+    bool oriented = false;
+    // Back to "nothing changed", keeping the lists' storage.
+    void clear() { whole = false, points.clear(), cells.clear(); }
+};
+
 // Splits a cell face into triangles with global vertex indices, outward winding kept. A quad
 // is cut by the diagonal from its smallest global vertex index (Max, Williams & Silva 2000,
 // §IV), so the two cells sharing it always agree. Returns the number of triangles (1 or 2).

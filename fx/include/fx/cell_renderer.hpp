@@ -140,6 +140,16 @@ public:
     // rebuilt every frame (terrain LOD prisms). The function's normalized range follows the new
     // field. Throws like the constructor.
     void set_mesh(const CellMesh& mesh, const std::string& scalar_name);
+    // The same for a mesh that changed in part (`changes`: the points and cells that differ from
+    // the mesh this renderer last took, MeshChanges in cell_mesh.hpp): only they are copied and
+    // uploaded, and the GPU rebuilds the tables of the cells they touch. Falls back to
+    // set_mesh (returning false) when the changes cannot apply in place — `whole`, a point
+    // removed, a cell of another type, a point far outside the mesh's first bounds. Throws
+    // fx::Error like set_mesh for bad changed values or ids.
+    bool update_mesh(const CellMesh& mesh, const std::string& scalar_name, const MeshChanges& changes);
+    // Culling (default off): each frame draws only the cells whose box meets the view, chosen on
+    // the GPU. For meshes far larger than what the camera sees (terrain fog, aurora).
+    void set_culling(bool culling);
     // Replaces the values of the field in use (one per mesh point), keeping the geometry: for
     // scalars animated on a fixed mesh (a campfire's noise), far cheaper than set_mesh. A
     // normalized function's range follows the new values. Throws fx::Error for a wrong count or

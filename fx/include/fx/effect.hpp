@@ -51,7 +51,7 @@ struct EffectView {
 
 // What update() changed since the previous update().
 struct EffectChanges {
-    bool mesh = false;    // points or cells are new: upload everything
+    bool mesh = false;    // points or cells are new: upload them (Effect::mesh_changes says which)
     bool scalars = false; // same points and cells, new scalar values
     bool pose = false;    // transform() changed: nothing to upload, the camera moves instead
     bool any() const { return mesh || scalars || pose; }
@@ -92,6 +92,11 @@ public:
     // non-finite time or camera, or parameters the effect cannot build.
     EffectChanges update(const EffectView& view);
     const CellMesh& mesh() const { return mesh_; }
+    // Which points and cells of mesh() changed since the last clear_mesh_changes() (whole for
+    // effects that rebuild their mesh whole; the terrain's fog and aurora follow their LOD and
+    // list only what it changed): what CellRenderer::update_mesh takes. The uploader clears it.
+    const MeshChanges& mesh_changes() const { return mesh_changes_; }
+    void clear_mesh_changes() { mesh_changes_.clear(); }
     const EffectCounters& counters() const { return counters_; }
 
     // Placement: world_from_local = rigid(parent · pose(time)). The parent is the object the
@@ -119,12 +124,18 @@ protected:
     // The pose in the parent's frame at `time` (rigid). Identity unless overridden.
     virtual glm::dmat4 pose_at(double time) const;
 
-    // For subclasses: record a build or a scalar update in the counters.
+    // For subclasses: record a build or a scalar update in the counters. A build of part of the
+    // mesh counts the cells it built.
     void count_build() { ++counters_.mesh_builds, counters_.cells_built += mesh_.cell_count(); }
+    void count_partial_build(std::size_t cells) { ++counters_.mesh_builds, counters_.cells_built += cells; }
     void count_scalar_update() { ++counters_.scalar_updates; }
     void count_noise(std::size_t samples) { counters_.noise_samples += samples; }
 
     CellMesh mesh_;
+    // What changed in mesh_ since it was last taken: a subclass that rebuilds only part of its
+    // mesh lists the points and cells here; update() marks it whole after any other mesh change.
+    MeshChanges mesh_changes_;
+    bool lists_mesh_changes_ = false; // set by such a subclass
 
 private:
     std::string scalar_name_;

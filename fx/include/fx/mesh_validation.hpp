@@ -84,5 +84,7 @@ struct OrientationReport {
 // Reorders the vertices of every inverted cell so that its volume becomes positive (tetra:
 // swap 1 and 2; pyramid: reverse the base; wedge and hexahedron: swap the two end faces).
 OrientationReport orient_cells(CellMesh& mesh);
+// The same for one cell: its shape before (CellShape::Inverted: it has been flipped).
+CellShape orient_cell(CellMesh& mesh, std::size_t cell);
 
 } // namespace cellfx::fx

@@ -71,6 +71,7 @@ EffectChanges Effect::update(const EffectView& view) {
         throw Error(std::string(type_name()) + ": the viewport is empty");
     ++counters_.updates;
     EffectChanges changes = simulate(view);
+    if (changes.mesh && !lists_mesh_changes_) mesh_changes_.whole = true;
     const glm::dmat4 t = transform_at(view.time);
     if (!placed_ || t != transform_) changes.pose = true;
     transform_ = t;

@@ -17,7 +17,8 @@ Buffer make_buffer(GLsizeiptr size, const void* data, GLbitfield flags) {
 bool GrowingBuffer::reserve(std::size_t bytes, std::size_t keep) {
     bytes = std::max<std::size_t>(bytes, 16);
     if (buffer_ && bytes <= capacity_) return false;
-    const std::size_t capacity = std::max(bytes, capacity_ + capacity_ / 2);
+    // A multiple of 16 bytes: whole vec4s, and offsets any clear or copy of 32-bit words accepts.
+    const std::size_t capacity = (std::max(bytes, capacity_ + capacity_ / 2) + 15) / 16 * 16;
     Buffer grown = make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
     keep = std::min(keep, capacity_);
     if (buffer_ && keep > 0) glCopyNamedBufferSubData(buffer_.id(), grown.id(), 0, 0, GLsizeiptr(keep));

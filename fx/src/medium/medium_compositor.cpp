@@ -304,7 +304,7 @@ void MediumCompositor::Impl::clear_mask() {
 }
 
 void MediumCompositor::Impl::draw_append(const Append& a) {
-    const GlProjector& projector = ProjectorAccess::projector(*a.renderer);
+    GlProjector& projector = ProjectorAccess::projector(*a.renderer);
     ProgramVariants& variants = append_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!variants.plain) { // linked on first use (once per context: the cache shares them)
         gl::Defines defines = projector.mesh_defines();
@@ -314,6 +314,7 @@ void MediumCompositor::Impl::draw_append(const Append& a) {
     }
     const gl::Program& program = variants(a.scene_depth != 0);
     const GLuint p = program.id();
+    projector.prepare_draw(a.local_camera, viewport);
     projector.bind_mesh();
     // Drawn into the mask's target: the viewport's size at the origin; the scene depth's texel
     // for pixel (i, j) is (viewport.x + i, viewport.y + j).

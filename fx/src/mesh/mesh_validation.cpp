@@ -400,23 +400,25 @@ void check_scalar_field(const CellMesh& mesh, const ScalarField& field, const st
     }
 }
 
+CellShape orient_cell(CellMesh& mesh, std::size_t c) {
+    const CellShape shape = classify_cell(mesh, c);
+    if (shape != CellShape::Inverted) return shape;
+    std::uint32_t* cv = mesh.cell_vertices(c);
+    switch (mesh.cell_types[c]) {
+    case CellType::Tetra: std::swap(cv[1], cv[2]); break;
+    case CellType::Pyramid: std::swap(cv[1], cv[3]); break;
+    case CellType::Wedge: std::swap_ranges(cv, cv + 3, cv + 3); break;
+    case CellType::Hexahedron: std::swap_ranges(cv, cv + 4, cv + 4); break;
+    }
+    return shape;
+}
+
 OrientationReport orient_cells(CellMesh& mesh) {
     OrientationReport report;
     for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
-        const CellShape shape = classify_cell(mesh, c);
-        if (shape == CellShape::Positive) continue;
-        if (shape != CellShape::Inverted) {
-            report.degenerate.push_back(static_cast<std::uint32_t>(c));
-            continue;
-        }
-        std::uint32_t* cv = mesh.cell_vertices(c);
-        switch (mesh.cell_types[c]) {
-        case CellType::Tetra: std::swap(cv[1], cv[2]); break;
-        case CellType::Pyramid: std::swap(cv[1], cv[3]); break;
-        case CellType::Wedge: std::swap_ranges(cv, cv + 3, cv + 3); break;
-        case CellType::Hexahedron: std::swap_ranges(cv, cv + 4, cv + 4); break;
-        }
-        ++report.flipped;
+        const CellShape shape = orient_cell(mesh, c);
+        if (shape == CellShape::Inverted) ++report.flipped;
+        else if (shape != CellShape::Positive) report.degenerate.push_back(static_cast<std::uint32_t>(c));
     }
     return report;
 }

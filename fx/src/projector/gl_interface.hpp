@@ -23,6 +23,13 @@ namespace cellfx::fx {
 #define FX_PROJECTOR_INTERFACE(X)                                                                  \
     /* shader storage buffers */                                                                   \
     X(kBindingFrame, BINDING_FRAME, 3)          /* per-frame data: near-plane cap triangles */     \
+    /* the tables' compute pass (projector_tables.comp) */                                        \
+    X(kBindingPlanesOut, BINDING_PLANES_OUT, 4)                                                    \
+    X(kBindingScalarFunctionsOut, BINDING_SCALAR_FUNCTIONS_OUT, 5)                                 \
+    X(kBindingBarycentricsOut, BINDING_BARYCENTRICS_OUT, 6)                                        \
+    X(kBindingElementsOut, BINDING_ELEMENTS_OUT, 7)                                                \
+    X(kBindingPointStamps, BINDING_POINT_STAMPS, 8) /* per point: the update that last changed it */ \
+    X(kBindingCellStamps, BINDING_CELL_STAMPS, 9)   /* per cell: the same for its connectivity */ \
     /* texture units (within those gl::StateGuard saves) */                                        \
     X(kUnitTables, UNIT_TABLES, 0)              /* transfer-function tables */                     \
     X(kUnitAccumulation, UNIT_ACCUMULATION, 0)  /* resolve: the pass's target */                   \
@@ -65,6 +72,13 @@ namespace cellfx::fx {
     X(kUniformRayDirection, UNIFORM_RAY_DIRECTION, 43) /* relative frame */                        \
     X(kUniformRayDirectionDx, UNIFORM_RAY_DIRECTION_DX, 44)                                        \
     X(kUniformRayDirectionDy, UNIFORM_RAY_DIRECTION_DY, 45)                                        \
+    /* the tables' compute pass */                                                                 \
+    X(kUniformTableCells, UNIFORM_TABLE_CELLS, 50)     /* cells in the mesh */                     \
+    X(kUniformTableBuilt, UNIFORM_TABLE_BUILT, 51)     /* stamp the tables were last built at */   \
+    X(kUniformTableAll, UNIFORM_TABLE_ALL, 52)         /* 1: every cell's tables */                \
+    X(kUniformTableElements, UNIFORM_TABLE_ELEMENTS, 53) /* 1: every cell's element triangles */   \
+    X(kUniformTableCull, UNIFORM_TABLE_CULL, 54)       /* 1: cells outside the planes collapse */  \
+    X(kUniformTableCullPlanes, UNIFORM_TABLE_CULL_PLANES, 55) /* 5 planes (55–59), relative frame */ \
     /* a cell's word: (its first triangle << WORD_COUNT_BITS) | (its triangle count − 1) */        \
     X(kWordCountBits, WORD_COUNT_BITS, 4)                                                          \
     /* a cell list entry with this bit set names a tetrahedron of the frame (upload_pieces) */     \

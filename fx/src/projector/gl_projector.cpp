@@ -10,11 +10,13 @@
 #include <glm/trigonometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "fx/effect.hpp"
 #include "fx/error.hpp"
 #include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/segment_integral.hpp"
 #include "gl/gl_check.hpp"
+#include "gl/state_guard.hpp"
 #include "projector/gl_interface.hpp"
 #include "frame_storage.hpp"
 
@@ -76,17 +78,6 @@ void barycentric_rows(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3
     out[1] = glm::vec4(glm::vec3(r2), float(-glm::dot(r2, a)));
 }
 
-// Outward unit plane of triangle (a, b, c) as build_projector_geometry makes it: zero when it
-// has no area.
-glm::vec4 triangle_plane(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    const glm::dvec3 n = glm::cross(b - a, c - a);
-    const double len = glm::length(n);
-    const double scale = std::max({glm::length(b - a), glm::length(c - a), glm::length(c - b)});
-    if (!(len > 1e-12 * scale * scale && len > 0.0)) return glm::vec4(0.0f);
-    const glm::dvec3 u = n / len;
-    return glm::vec4(glm::vec3(u), float(glm::dot(u, (a + b + c) / 3.0)));
-}
-
 // Buffer textures read with texelFetch: their texel count must fit the implementation's limit.
 void check_texture_buffer_size(std::size_t texels, const char* what) {
     GLint most = 0;
@@ -97,6 +88,58 @@ void check_texture_buffer_size(std::size_t texels, const char* what) {
 }
 
 } // namespace
+
+ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell) {
+    ProjectorTables t;
+    const std::size_t nt = geometry.triangles.size();
+    t.planes.resize(nt);
+    t.scalar_functions.resize(nt);
+    if (vertices_per_cell != 4) t.barycentrics.assign(2 * nt, glm::vec4(0.0f));
+    t.elements.resize(3 * nt);
+    auto point = [&](std::uint32_t i) { return ScalarPoint{glm::dvec3(geometry.positions[i]), double(geometry.scalars[i])}; };
+    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+        const CellType type = mesh.cell_types[c];
+        const std::uint32_t* cv = mesh.cell_vertices(c);
+        glm::vec4 tet(0.0f);
+        if (type == CellType::Tetra) {
+            const ScalarPoint v[4] = {point(cv[0]), point(cv[1]), point(cv[2]), point(cv[3])};
+            tet = tetrahedron_function(v);
+        }
+        std::uint32_t triangle = geometry.cell_first_triangle[c];
+        for (int f = 0; f < cell_face_count(type); ++f) {
+            std::uint8_t local[2][3];
+            const int halves = triangulate_face_local(cell_faces(type)[f], cv, local);
+            for (int h = 0; h < halves; ++h, ++triangle) {
+                const ScalarPoint a = point(cv[local[h][0]]), b = point(cv[local[h][1]]), cc = point(cv[local[h][2]]);
+                t.planes[triangle] = triangle_plane(a.p, b.p, cc.p);
+                t.scalar_functions[triangle] = type == CellType::Tetra ? tet : triangle_function(a, b, cc);
+                if (vertices_per_cell != 4 && type != CellType::Tetra) barycentric_rows(a.p, b.p, cc.p, &t.barycentrics[2 * triangle]);
+                for (int k = 0; k < 3; ++k)
+                    t.elements[3 * std::size_t(triangle) + k] = std::uint32_t(c) * std::uint32_t(vertices_per_cell) + local[h][k];
+            }
+        }
+    }
+    return t;
+}
+
+ProjectorTables GlProjector::read_tables() {
+    prepare_tables();
+    glFinish();
+    ProjectorTables t;
+    const std::size_t nt = geometry_.triangles.size();
+    t.planes.resize(nt);
+    t.scalar_functions.resize(nt);
+    t.elements.resize(3 * nt);
+    glGetNamedBufferSubData(planes_.id(), 0, GLsizeiptr(nt * 16), t.planes.data());
+    glGetNamedBufferSubData(scalar_fns_.id(), 0, GLsizeiptr(nt * 16), t.scalar_functions.data());
+    glGetNamedBufferSubData(elements_.id(), 0, GLsizeiptr(nt * 12), t.elements.data());
+    if (!all_tetrahedra()) {
+        t.barycentrics.resize(2 * nt);
+        glGetNamedBufferSubData(barycentrics_.id(), 0, GLsizeiptr(nt * 32), t.barycentrics.data());
+    }
+    FX_GL_CHECK("read tables");
+    return t;
+}
 
 GlProjector::GlProjector(const CellMesh& mesh, const std::string& scalar_name, const TransferFunction& tf)
     : programs_(gl::ProgramCache::for_current_context()) {
@@ -125,6 +168,323 @@ void GlProjector::set_mesh(const CellMesh& mesh, const std::string& scalar_name)
     if (source_tf_.normalized()) set_transfer_function(source_tf_); // else the tables stay as they are
 }
 
+namespace {
+
+const ScalarField* field_of(const CellMesh& source, const std::string& scalar_name) {
+    if (!scalar_name.empty()) {
+        const ScalarField* field = source.find_scalar(scalar_name);
+        if (!field) throw Error("cell renderer: the mesh has no scalar field '" + scalar_name + "'");
+        return field;
+    }
+    return source.scalars.empty() ? nullptr : &source.scalars[0];
+}
+
+ScalarRange range_of(const std::vector<float>& values) {
+    ScalarRange r = values.empty() ? ScalarRange{0.0f, 0.0f} : ScalarRange{values[0], values[0]};
+    for (float v : values) r.lo = std::min(r.lo, v), r.hi = std::max(r.hi, v);
+    return r;
+}
+
+} // namespace
+
+bool GlProjector::update_mesh(const CellMesh& source, const std::string& scalar_name, const MeshChanges& changes) {
+    const ScalarField* field = field_of(source, scalar_name);
+    const std::size_t np = source.point_count(), nc = source.cell_count();
+    // In place only when the unchanged part is what the renderer has: the same field, no point
+    // gone, the changed and new cells of the same kind as the mesh's, positions near the origin
+    // the renderer keeps them relative to, and a stamp left to number the update.
+    bool in_place = !changes.whole && np >= mesh_.point_count() && stamp_ + 1 < 0xFFFFFFFFu &&
+                    source.cell_offsets.size() == nc + 1 && source.connectivity.size() == source.cell_offsets[nc] &&
+                    (!field || field->values.size() == np);
+    const double extent = std::max(glm::length(bounds_.hi - bounds_.lo), kMinProjectorExtent);
+    for (std::size_t i = 0; in_place && i < changes.points.size(); ++i) {
+        const std::uint32_t p = changes.points[i];
+        if (p >= np) throw Error("cell renderer: update_mesh: changed point " + std::to_string(p) + " beyond the mesh's " +
+                                 std::to_string(np) + " points");
+        const glm::dvec3 rel = source.points[p] - geometry_.origin;
+        in_place = std::max({std::abs(rel.x), std::abs(rel.y), std::abs(rel.z)}) <= 4.0 * extent;
+    }
+    for (std::size_t i = 0; in_place && i < changes.cells.size(); ++i) {
+        const std::uint32_t c = changes.cells[i];
+        if (c >= nc) throw Error("cell renderer: update_mesh: changed cell " + std::to_string(c) + " beyond the mesh's " +
+                                 std::to_string(nc) + " cells");
+        const CellType type = source.cell_types[c];
+        in_place = (!all_tetrahedra() || type == CellType::Tetra) && (c >= mesh_.cell_count() || type == mesh_.cell_types[c]);
+    }
+    // Points and cells past the old counts must all be listed as changed: they are new.
+    if (in_place && (np > mesh_.point_count() || nc > mesh_.cell_count())) {
+        std::size_t points = 0, cells = 0;
+        for (std::uint32_t p : changes.points) points += p >= mesh_.point_count();
+        for (std::uint32_t c : changes.cells) cells += c >= mesh_.cell_count();
+        in_place = points >= np - mesh_.point_count() && cells >= nc - mesh_.cell_count();
+    }
+    if (!in_place) {
+        set_mesh(source, scalar_name);
+        return false;
+    }
+    apply_changes(source, field, changes);
+    if (source_tf_.normalized()) {
+        // A normalized function follows the field's range, the whole field's.
+        const ScalarRange range = range_of(geometry_.scalars);
+        if (range.lo != field_range_.lo || range.hi != field_range_.hi) {
+            field_range_ = range;
+            set_transfer_function(source_tf_);
+        }
+    }
+    return true;
+}
+
+void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes) {
+    const std::size_t old_np = mesh_.point_count(), old_nc = mesh_.cell_count();
+    const std::size_t np = source.point_count(), nc = source.cell_count();
+    ++stamp_;
+    // Points: the CPU's copy (mesh, positions relative to the kept origin, scalars) and the list
+    // of changed values for the GPU.
+    mesh_.points.resize(np);
+    resize_kept(geometry_.positions, np);
+    resize_kept(geometry_.scalars, np);
+    if (!point_scatter_) {
+        point_scatter_ = std::make_unique<gl::ScatterPass>(4);
+        cell_scatter_ = std::make_unique<gl::ScatterPass>(8);
+    }
+    point_scatter_->clear();
+    cell_scatter_->clear();
+    for (std::uint32_t p : changes.points) {
+        const glm::dvec3& q = source.points[p];
+        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+            throw Error("projector: point " + std::to_string(p) + " has a non-finite coordinate");
+        const float s = field ? field->values[p] : 0.0f;
+        if (!std::isfinite(s))
+            throw Error("projector: scalar '" + field->name + "' of point " + std::to_string(p) + " is not finite");
+        mesh_.points[p] = q;
+        const glm::vec3 r(q - geometry_.origin);
+        geometry_.positions[p] = r;
+        geometry_.scalars[p] = s;
+        bounds_.lo = glm::min(bounds_.lo, glm::dvec3(r));
+        bounds_.hi = glm::max(bounds_.hi, glm::dvec3(r));
+        const glm::vec4 data(r, s);
+        std::memcpy(point_scatter_->add(4 * p, 4, p), &data, sizeof(glm::vec4));
+    }
+    // Cells: removed ones are the last ones; new ones are appended with their triangles and words.
+    const std::uint32_t v = std::uint32_t(vertices_per_cell_);
+    if (nc < old_nc) {
+        mesh_.cell_types.resize(nc);
+        mesh_.cell_offsets.resize(nc + 1);
+        mesh_.connectivity.resize(mesh_.cell_offsets[nc]);
+        geometry_.cell_first_triangle.resize(nc + 1);
+        const std::size_t nt = geometry_.cell_first_triangle[nc];
+        geometry_.triangles.resize(nt);
+        geometry_.triangle_cell.resize(nt);
+        cell_triangle_vertices_.resize(3 * nt);
+        words_.resize(nc);
+    } else if (nc > old_nc) {
+        for (std::size_t c = old_nc; c < nc; ++c) {
+            const CellType type = source.cell_types[c];
+            mesh_.cell_types.push_back(type);
+            const std::uint32_t count = std::uint32_t(cell_vertex_count(type));
+            mesh_.connectivity.resize(mesh_.connectivity.size() + count);
+            mesh_.cell_offsets.push_back(std::uint32_t(mesh_.connectivity.size()));
+            std::uint32_t triangles = 0;
+            for (int f = 0; f < cell_face_count(type); ++f) triangles += cell_faces(type)[f].count == 4 ? 2 : 1;
+            const std::uint32_t first = geometry_.cell_first_triangle.back();
+            geometry_.cell_first_triangle.push_back(first + triangles);
+            geometry_.triangles.resize(first + triangles);
+            geometry_.triangle_cell.resize(first + triangles, std::uint32_t(c));
+            cell_triangle_vertices_.resize(3 * std::size_t(first + triangles));
+            words_.push_back(cell_word(first, triangles));
+        }
+        if (geometry_.triangles.size() > kMaxWordTriangle)
+            throw Error("cell renderer: the mesh has " + std::to_string(geometry_.triangles.size()) +
+                        " face triangles, more than " + std::to_string(kMaxWordTriangle) + " (split it into several renderers)");
+        check_texture_buffer_size(std::max(geometry_.triangles.size(), mesh_.connectivity.size()), "face triangles");
+        if (nc > std::size_t(0xFFFFFFFFu) / v) throw Error("cell renderer: too many cells (" + std::to_string(nc) + ")");
+    }
+    for (std::uint32_t c : changes.cells) {
+        const std::uint32_t* from = source.cell_vertices(c);
+        std::uint32_t* to = mesh_.cell_vertices(c);
+        const int n = cell_vertex_count(mesh_.cell_types[c]);
+        for (int k = 0; k < n; ++k) {
+            if (from[k] >= np)
+                throw Error("projector: cell " + std::to_string(c) + " uses point " + std::to_string(from[k]) +
+                            " but the mesh has " + std::to_string(np) + " points");
+            to[k] = from[k];
+        }
+        if (!changes.oriented) orient_cell(mesh_, c);
+        // Its CPU triangles when a CPU pass asks (flush_triangles): listed once however often it
+        // changes meanwhile.
+        if (triangles_stale_.size() < nc) triangles_stale_.resize(std::max<std::size_t>(nc, triangles_stale_.size() * 3 / 2), 0);
+        if (!triangles_stale_[c]) {
+            triangles_stale_[c] = 1;
+            untriangulated_.push_back(c);
+        }
+        std::memcpy(cell_scatter_->add(mesh_.cell_offsets[c], std::uint32_t(n), c), to, std::size_t(n) * 4);
+    }
+    planes_stale_ = true;
+    unique_faces_ready_ = unique_faces_ready_ && changes.cells.empty() && nc == old_nc;
+    if (nc != old_nc) mesh_.blocks = source.blocks;
+
+    // The GPU: grown buffers keep what is built; new cells' offsets and words go up whole, then
+    // the changed values are scattered into place and stamped.
+    if (points_.reserve(np * sizeof(glm::vec4), old_np * sizeof(glm::vec4))) attach(points_texture_, GL_RGBA32F, points_.id());
+    if (nc > old_nc) {
+        if (cell_offsets_.reserve((nc + 1) * 4, (old_nc + 1) * 4)) attach(cell_offsets_texture_, GL_R32UI, cell_offsets_.id());
+        if (cell_words_.reserve(nc * 4, old_nc * 4)) attach(cell_words_texture_, GL_R32UI, cell_words_.id());
+        glNamedBufferSubData(cell_offsets_.id(), GLintptr(4 * (old_nc + 1)), GLsizeiptr(4 * (nc - old_nc)),
+                             mesh_.cell_offsets.data() + old_nc + 1);
+        glNamedBufferSubData(cell_words_.id(), GLintptr(4 * old_nc), GLsizeiptr(4 * (nc - old_nc)), words_.data() + old_nc);
+    }
+    if (connectivity_.reserve(mesh_.connectivity.size() * 4, mesh_.connectivity.size() * 4))
+        attach(connectivity_texture_, GL_R32UI, connectivity_.id());
+    reserve_tables(/*keep=*/true);
+    point_scatter_->run(points_.id(), point_stamps_.id(), stamp_);
+    cell_scatter_->run(connectivity_.id(), cell_stamps_.id(), stamp_);
+    bytes_ = gpu_capacity_bytes();
+    FX_GL_CHECK("update mesh");
+}
+
+void GlProjector::flush_triangles() const {
+    for (std::uint32_t c : untriangulated_) {
+        triangles_stale_[c] = 0;
+        if (c < mesh_.cell_count()) triangulate_cell(c);
+    }
+    untriangulated_.clear();
+}
+
+void GlProjector::triangulate_cell(std::size_t c) const {
+    const CellType type = mesh_.cell_types[c];
+    const std::uint32_t* cv = mesh_.cell_vertices(c);
+    const std::uint32_t v = std::uint32_t(vertices_per_cell_);
+    std::uint32_t t = geometry_.cell_first_triangle[c];
+    for (int f = 0; f < cell_face_count(type); ++f) {
+        std::uint8_t local[2][3];
+        const int halves = triangulate_face_local(cell_faces(type)[f], cv, local);
+        for (int h = 0; h < halves; ++h, ++t) {
+            for (int k = 0; k < 3; ++k) {
+                geometry_.triangles[t][k] = cv[local[h][k]];
+                cell_triangle_vertices_[3 * std::size_t(t) + k] = std::uint32_t(c) * v + local[h][k];
+            }
+            geometry_.triangle_cell[t] = std::uint32_t(c);
+        }
+    }
+}
+
+void GlProjector::reserve_tables(bool keep) {
+    // Planes and scalar functions keep the room after the triangles for a frame's tetrahedra
+    // (upload_pieces) as they have it; with `keep`, what is built stays.
+    const std::size_t nt = geometry_.triangles.size(), nc = mesh_.cell_count(), np = mesh_.point_count();
+    const std::size_t table = nt * sizeof(glm::vec4);
+    const auto kept = [keep](const gl::GrowingBuffer& b) { return keep ? b.capacity() : 0; };
+    if (planes_.reserve(table, kept(planes_))) attach(planes_texture_, GL_RGBA32F, planes_.id());
+    if (scalar_fns_.reserve(table, kept(scalar_fns_))) attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_.id());
+    if (barycentrics_.reserve(all_tetrahedra() ? 16 : 2 * table, kept(barycentrics_)))
+        attach(barycentrics_texture_, GL_RGBA32F, barycentrics_.id());
+    if (elements_.reserve(3 * nt * 4, kept(elements_)) && vertex_array_)
+        glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
+    // New stamps are 0: older than any update.
+    const auto stamps = [keep](gl::GrowingBuffer& buffer, std::size_t count) {
+        const std::size_t before = buffer.capacity();
+        buffer.reserve(count * 4, keep ? before : 0);
+        if (buffer.capacity() > before) {
+            const GLuint zero = 0;
+            glClearNamedBufferSubData(buffer.id(), GL_R32UI, GLintptr(before), GLsizeiptr(buffer.capacity() - before),
+                                      GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        }
+    };
+    stamps(point_stamps_, np);
+    stamps(cell_stamps_, nc);
+}
+
+void GlProjector::set_culling(bool culling) {
+    if (culling == culling_) return;
+    culling_ = culling;
+    culled_view_valid_ = false;
+    elements_all_ = true;
+}
+
+void GlProjector::prepare_draw(const Camera& camera, const Viewport& viewport) {
+    build_tables(&camera, double(viewport.width) / double(viewport.height));
+}
+
+void GlProjector::prepare_tables() { build_tables(nullptr, 0.0); }
+
+void GlProjector::build_tables(const Camera* view, double aspect) {
+    const bool same_view = !view || (culled_view_valid_ && culled_aspect_ == aspect && culled_camera_.eye == view->eye &&
+                                     culled_camera_.target == view->target && culled_camera_.up == view->up &&
+                                     culled_camera_.fov_y_degrees == view->fov_y_degrees &&
+                                     culled_camera_.ortho_height == view->ortho_height &&
+                                     culled_camera_.near_distance == view->near_distance &&
+                                     culled_camera_.projection == view->projection);
+    const bool view_changed = culling_ && !same_view;
+    const Camera& camera = view ? *view : culled_camera_;
+    if (!build_all_ && built_stamp_ == stamp_ && !elements_all_ && !view_changed) return;
+    if (mesh_.cell_count() == 0) {
+        build_all_ = elements_all_ = false;
+        built_stamp_ = stamp_;
+        return;
+    }
+    gl::StateGuard guard;
+    if (!tables_program_ || tables_program_cells_ != vertices_per_cell_) { // linked once per kind of mesh
+        tables_program_ = &program({"projector_tables.comp"}, mesh_defines());
+        tables_program_cells_ = vertices_per_cell_;
+    }
+    const GLuint p = tables_program_->id();
+    glUseProgram(p);
+    glProgramUniform1ui(p, kUniformTableCells, GLuint(mesh_.cell_count()));
+    glProgramUniform1ui(p, kUniformTableBuilt, GLuint(built_stamp_));
+    glProgramUniform1i(p, kUniformTableAll, build_all_ ? 1 : 0);
+    glProgramUniform1i(p, kUniformTableElements, elements_all_ || view_changed ? 1 : 0);
+    glProgramUniform1i(p, kUniformTableCull, culling_ ? 1 : 0);
+    if (view_changed) {
+        // The view's left, right, bottom, top and near planes (not the far one: no path cuts cells
+        // there) in the relative frame, moved out by a hair of the mesh's size: cells on a plane
+        // stay drawn whatever float rounding does.
+        const Frustum frustum(camera, aspect);
+        const double slack = 1e-4 * std::max(glm::length(bounds_.hi - bounds_.lo), kMinProjectorExtent);
+        glm::vec4 planes[5];
+        for (int k = 0; k < 5; ++k) {
+            const glm::dvec4& f = frustum.planes[k];
+            const glm::dvec3 n(f);
+            const double length = std::max(glm::length(n), 1e-300);
+            // n·(p_world − eye) + w = n·p_rel + n·(origin − eye) + w
+            const double w = (f.w + glm::dot(n, geometry_.origin - frustum.origin)) / length + slack;
+            planes[k] = glm::vec4(glm::vec3(n / length), float(w));
+        }
+        glProgramUniform4fv(p, kUniformTableCullPlanes, 5, glm::value_ptr(planes[0]));
+        culled_camera_ = camera;
+        culled_aspect_ = aspect;
+        culled_view_valid_ = true;
+    }
+    const std::pair<GLuint, GLuint> textures[] = {{kUnitPoints, points_texture_.id()},
+                                                  {kUnitConnectivity, connectivity_texture_.id()},
+                                                  {kUnitCellOffsets, cell_offsets_texture_.id()},
+                                                  {kUnitCellWords, cell_words_texture_.id()}};
+    for (const auto& [unit, texture] : textures) {
+        glBindTextureUnit(unit, texture);
+        glBindSampler(unit, 0);
+    }
+    const std::pair<GLuint, GLuint> buffers[] = {{kBindingPlanesOut, planes_.id()},
+                                                 {kBindingScalarFunctionsOut, scalar_fns_.id()},
+                                                 {kBindingBarycentricsOut, barycentrics_.id()},
+                                                 {kBindingElementsOut, elements_.id()},
+                                                 {kBindingPointStamps, point_stamps_.id()},
+                                                 {kBindingCellStamps, cell_stamps_.id()}};
+    for (const auto& [binding, buffer] : buffers) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
+    glDispatchCompute(GLuint((mesh_.cell_count() + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    build_all_ = elements_all_ = false;
+    built_stamp_ = stamp_;
+    FX_GL_CHECK("projector tables");
+}
+
+const ProjectorGeometry& GlProjector::geometry() const {
+    flush_triangles();
+    if (planes_stale_) {
+        compute_triangle_planes(geometry_);
+        planes_stale_ = false;
+    }
+    return geometry_;
+}
+
 bool GlProjector::set_scalars(const std::vector<float>& values) {
     if (values.size() != geometry_.scalars.size())
         throw Error("cell renderer: set_scalars got " + std::to_string(values.size()) + " values for " +
@@ -133,11 +493,8 @@ bool GlProjector::set_scalars(const std::vector<float>& values) {
         if (!std::isfinite(values[i])) throw Error("cell renderer: set_scalars: value " + std::to_string(i) + " is not finite");
     geometry_.scalars = values;
     upload_point_data();
-    scalar_functions(function_scratch_); // they follow the values; nothing else changes
-    glNamedBufferSubData(scalar_fns_.id(), 0, GLsizeiptr(geometry_.triangles.size() * 16), function_scratch_.data());
-    FX_GL_CHECK("set_scalars upload");
-    field_range_ = values.empty() ? ScalarRange{0.0f, 0.0f} : ScalarRange{values[0], values[0]};
-    for (float v : values) field_range_.lo = std::min(field_range_.lo, v), field_range_.hi = std::max(field_range_.hi, v);
+    build_all_ = true; // the scalar functions follow the values (the GPU rebuilds every cell's)
+    field_range_ = range_of(values);
     if (!source_tf_.normalized()) return false;
     set_transfer_function(source_tf_); // its tables follow the range
     return true;
@@ -165,13 +522,7 @@ void GlProjector::upload_point_data() {
 }
 
 void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_name) {
-    const ScalarField* field = nullptr;
-    if (!scalar_name.empty()) {
-        field = source.find_scalar(scalar_name);
-        if (!field) throw Error("cell renderer: the mesh has no scalar field '" + scalar_name + "'");
-    } else if (!source.scalars.empty()) {
-        field = &source.scalars[0];
-    }
+    const ScalarField* field = field_of(source, scalar_name);
     // Inverted cells (faces wound inward: negative volume) are drawn as their mirror-consistent
     // positive versions, so that front and back, entry and exit mean the same in every cell.
     // Everything here is written into the storage of the mesh before (a terrain's prisms are
@@ -183,7 +534,8 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
     mesh_.blocks = source.blocks;
     mesh_.scalars.clear();
     orient_cells(mesh_);
-    build_projector_geometry(mesh_, field, geometry_);
+    build_projector_geometry(mesh_, field, geometry_, /*planes=*/false);
+    planes_stale_ = true;
     field_range_ = field ? scalar_range(*field) : ScalarRange{0.0f, 0.0f};
     unique_faces_ready_ = false;
     unique_faces_.clear();
@@ -208,44 +560,29 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
     if (nc > std::size_t(0xFFFFFFFFu) / v) throw Error("cell renderer: too many cells (" + std::to_string(nc) + ")");
     resize_kept(cell_triangle_vertices_, 3 * nt);
     resize_kept(words_, nc);
-    std::vector<glm::vec4>& barycentrics = barycentrics_data_;
-    barycentrics.clear();
+    untriangulated_.clear();
+    triangles_stale_.assign(triangles_stale_.size(), 0);
     for (std::size_t c = 0; c < nc; ++c) {
         const std::uint32_t first = geometry_.cell_first_triangle[c], n = geometry_.cell_first_triangle[c + 1] - first;
-        const CellType type = mesh_.cell_types[c];
-        const std::uint32_t* cv = mesh_.cell_vertices(c);
         words_[c] = cell_word(first, n);
-        // The cell's triangles in its own vertex numbers, in build_projector_geometry's order.
-        std::uint32_t next = first;
-        for (int f = 0; f < cell_face_count(type); ++f) {
-            std::uint8_t local[2][3];
-            const int halves = triangulate_face_local(cell_faces(type)[f], cv, local);
-            for (int h = 0; h < halves; ++h, ++next)
-                for (int k = 0; k < 3; ++k) cell_triangle_vertices_[3 * next + k] = std::uint32_t(c) * v + local[h][k];
-        }
-        for (std::uint32_t t = first; t < first + n; ++t) {
-            const auto& tri = geometry_.triangles[t];
-            const glm::dvec3 a(geometry_.positions[tri[0]]), b(geometry_.positions[tri[1]]), cc(geometry_.positions[tri[2]]);
-            // The planes are the geometry's (triangle_planes: triangle_plane's, from the same floats).
-            if (type == CellType::Tetra) continue; // convex, one plane per face: never searched
-            if (barycentrics.empty()) assign_kept(barycentrics, 2 * nt, glm::vec4(0.0f));
-            barycentric_rows(a, b, cc, &barycentrics[2 * t]);
-        }
+        triangulate_cell(c);
     }
-    scalar_functions(function_scratch_);
 
-    // Planes and scalar functions leave room for a frame's tetrahedra (upload_pieces): their
-    // buffers keep what they had beyond the mesh's triangles.
-    const std::size_t nt_bytes = nt * sizeof(glm::vec4);
+    // The tables are the GPU's to build (prepare_draw), every cell of them; the stamps start
+    // over.
     connectivity_.upload(mesh_.connectivity.data(), mesh_.connectivity.size() * 4, connectivity_texture_, GL_R32UI);
     cell_offsets_.upload(mesh_.cell_offsets.data(), mesh_.cell_offsets.size() * 4, cell_offsets_texture_, GL_R32UI);
     cell_words_.upload(words_.data(), nc * 4, cell_words_texture_, GL_R32UI);
-    planes_.upload(geometry_.triangle_planes.data(), nt_bytes, planes_texture_, GL_RGBA32F);
-    scalar_fns_.upload(function_scratch_.data(), nt_bytes, scalar_fns_texture_, GL_RGBA32F);
-    barycentrics_.upload(barycentrics.data(), barycentrics.size() * sizeof(glm::vec4), barycentrics_texture_, GL_RGBA32F);
     if (!vertex_array_) vertex_array_ = gl::VertexArray::create();
-    if (elements_.upload(cell_triangle_vertices_.data(), cell_triangle_vertices_.size() * 4))
-        glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
+    reserve_tables(/*keep=*/false);
+    glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
+    const GLuint zero = 0;
+    glClearNamedBufferSubData(point_stamps_.id(), GL_R32UI, 0, GLsizeiptr(point_stamps_.capacity()), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferSubData(cell_stamps_.id(), GL_R32UI, 0, GLsizeiptr(cell_stamps_.capacity()), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    stamp_ = built_stamp_ = 0;
+    build_all_ = elements_all_ = true;
     bytes_ = gpu_capacity_bytes();
     FX_GL_CHECK("upload mesh");
 }
@@ -253,28 +590,10 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
 std::size_t GlProjector::gpu_capacity_bytes() const {
     std::size_t bytes = std::size_t(kTableSize + 1) * 3 * 16;
     for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &planes_, &scalar_fns_,
-                                       &barycentrics_, &elements_, &piece_points_, &unique_faces_buffer_})
+                                       &barycentrics_, &elements_, &piece_points_, &unique_faces_buffer_, &point_stamps_,
+                                       &cell_stamps_})
         bytes += b->capacity();
     return bytes;
-}
-
-void GlProjector::scalar_functions(std::vector<glm::vec4>& out) const {
-    const std::size_t nc = mesh_.cell_count();
-    assign_kept(out, geometry_.triangles.size(), glm::vec4(0.0f));
-    auto point = [&](std::uint32_t i) { return ScalarPoint{glm::dvec3(geometry_.positions[i]), double(geometry_.scalars[i])}; };
-    for (std::size_t c = 0; c < nc; ++c) {
-        const std::uint32_t first = geometry_.cell_first_triangle[c], end = geometry_.cell_first_triangle[c + 1];
-        if (mesh_.cell_types[c] == CellType::Tetra) {
-            const std::uint32_t* cv = mesh_.cell_vertices(c);
-            const ScalarPoint v[4] = {point(cv[0]), point(cv[1]), point(cv[2]), point(cv[3])};
-            std::fill(out.begin() + first, out.begin() + end, tetrahedron_function(v));
-            continue;
-        }
-        for (std::uint32_t t = first; t < end; ++t) {
-            const auto& tri = geometry_.triangles[t];
-            out[t] = triangle_function(point(tri[0]), point(tri[1]), point(tri[2]));
-        }
-    }
 }
 
 void GlProjector::upload_tables(const TransferFunction& tf) {
@@ -505,6 +824,7 @@ void GlProjector::upload_frame(const std::vector<glm::uvec4>& data) {
 
 std::size_t GlProjector::unique_face_triangles() {
     if (!unique_faces_ready_) {
+        flush_triangles();
         // A face slot is drawn from the cell with the lower slot of the two that share it.
         build_face_topology(mesh_, topology_, topology_scratch_);
         const FaceTopology& topology = topology_;
@@ -539,49 +859,53 @@ void GlProjector::bind_unique_faces() {
 
 // ---- GlCellList -------------------------------------------------------------------------------
 
-GlCellList::GlCellList(const GlProjector& projector) : projector_(projector) {
-    vertex_array_ = gl::VertexArray::create();
-    if (projector.all_tetrahedra()) glVertexArrayElementBuffer(vertex_array_.id(), projector.element_buffer());
-}
+GlCellList::GlCellList(const GlProjector& projector) : projector_(projector) { vertex_array_ = gl::VertexArray::create(); }
 
 void GlCellList::upload(const std::vector<std::uint32_t>& cells, const std::vector<glm::vec2>& ranges) {
     slots_ = cells.size();
     cells_.upload(cells.data(), cells.size() * 4, cells_texture_, GL_R32UI);
     if (!ranges.empty()) slot_data_.upload(ranges.data(), ranges.size() * sizeof(glm::vec2), slot_data_texture_, GL_RG32F);
-    if (projector_.all_tetrahedra()) return; // the mesh's own element buffer: the same pattern per slot
-    // Each entry's triangles, renumbered to its slot: vertex k of slot s is s·8 + k.
-    const std::vector<std::uint32_t>& first_triangle = projector_.geometry().cell_first_triangle;
-    const std::vector<std::uint32_t>& mesh_elements = projector_.cell_triangle_vertices();
     const CellFace* tetra_faces = cell_faces(CellType::Tetra);
     const std::uint32_t v = std::uint32_t(projector_.vertices_per_cell());
-    elements_data_.clear();
-    resize_kept(first_element_, slots_ + 1);
-    for (std::size_t s = 0; s < slots_; ++s) {
-        first_element_[s] = elements_data_.size();
-        const std::uint32_t base = std::uint32_t(s) * v;
-        if (cells[s] & kPieceBit) {
+    if (projector_.all_tetrahedra()) {
+        // The same pattern in every slot: made once for as many slots as a frame has had.
+        if (slots_ <= tetra_slots_) return;
+        tetra_slots_ = std::max(slots_, tetra_slots_ + tetra_slots_ / 2);
+        resize_kept(elements_data_, 12 * tetra_slots_);
+        for (std::size_t s = 0; s < tetra_slots_; ++s)
             for (int f = 0; f < 4; ++f)
-                for (int k = 0; k < 3; ++k) elements_data_.push_back(base + tetra_faces[f].v[k]);
-            continue;
+                for (int k = 0; k < 3; ++k) elements_data_[12 * s + 3 * f + k] = std::uint32_t(s) * v + tetra_faces[f].v[k];
+    } else {
+        // Each entry's triangles, renumbered to its slot: vertex k of slot s is s·8 + k.
+        const std::vector<std::uint32_t>& first_triangle = projector_.cell_first_triangle();
+        const std::vector<std::uint32_t>& mesh_elements = projector_.cell_triangle_vertices();
+        elements_data_.clear();
+        resize_kept(first_element_, slots_ + 1);
+        for (std::size_t s = 0; s < slots_; ++s) {
+            first_element_[s] = elements_data_.size();
+            const std::uint32_t base = std::uint32_t(s) * v;
+            if (cells[s] & kPieceBit) {
+                for (int f = 0; f < 4; ++f)
+                    for (int k = 0; k < 3; ++k) elements_data_.push_back(base + tetra_faces[f].v[k]);
+                continue;
+            }
+            const std::uint32_t c = cells[s];
+            for (std::uint32_t i = 3 * first_triangle[c]; i < 3 * first_triangle[c + 1]; ++i)
+                elements_data_.push_back(base + mesh_elements[i] % v);
         }
-        const std::uint32_t c = cells[s];
-        for (std::uint32_t i = 3 * first_triangle[c]; i < 3 * first_triangle[c + 1]; ++i)
-            elements_data_.push_back(base + mesh_elements[i] % v);
+        first_element_[slots_] = elements_data_.size();
     }
-    first_element_[slots_] = elements_data_.size();
     if (elements_.upload(elements_data_.data(), elements_data_.size() * 4))
         glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
     FX_GL_CHECK("cell list upload");
 }
 
 void GlCellList::bind(const gl::Program& program) const {
-    glProgramUniform1ui(program.id(), kUniformPieceBase, GLuint(projector_.geometry().triangles.size()));
+    glProgramUniform1ui(program.id(), kUniformPieceBase, GLuint(projector_.triangle_count()));
     glBindTextureUnit(kUnitCellList, cells_texture_.id());
     glBindTextureUnit(kUnitSlotData, slot_data_texture_.id());
     glBindSampler(kUnitCellList, 0);
     glBindSampler(kUnitSlotData, 0);
-    // Tetrahedra draw with the mesh's element buffer, which a new mesh may have grown.
-    if (projector_.all_tetrahedra()) glVertexArrayElementBuffer(vertex_array_.id(), projector_.element_buffer());
     glBindVertexArray(vertex_array_.id());
 }
 

@@ -10,14 +10,24 @@
 // view, ray and scene-depth uniforms of gl_interface.hpp's table, cell lists and near-plane caps.
 // It includes nothing from the passes or the dispatcher.
 //
+// Where the tables are built. The CPU keeps the mesh (oriented) and the geometry's positions and
+// triangles; the per-triangle tables the fragment shaders read — planes, scalar functions,
+// barycentric rows — and the element buffer are built on the GPU from the points and the
+// connectivity (shaders/projector_tables.comp; docs/render_paths.md says why), once for a new
+// mesh and, after update_mesh(), only for the cells it changed: their points and connectivity are
+// uploaded as records written into place (gl::ScatterPass), each stamped with the update's
+// number, and the tables pass rebuilds the cells with a stamp newer than its last build. A CPU pass that needs the planes (classic pcp, the absorption paths, the
+// near-plane caps) gets them from geometry(), computed on the CPU when first asked after a change.
+// With culling on (set_culling: meshes much larger than the view, such as terrain fog) the same
+// pass writes each cell's triangles only when its box meets the view (prepare_draw).
+//
 // How the mesh is drawn. A cell's vertices are vertex ids slot·V + k (k < V = vertices_per_cell():
 // 4 when every cell is a tetrahedron, else 8), so that a cell's vertex is transformed once
 // however many of its triangles use it; cells.vert finds the cell of `slot` — the slot itself,
 // or entry `slot` of a frame's cell list (GlCellList) — fetches its point, and hands the
 // fragment shader the cell's word as one flat integer. The element buffer lists each cell's
 // face triangles in that numbering (quads cut by their smallest-vertex diagonal, as
-// everywhere); for tetrahedra the pattern is the same for every cell, so a frame's list of
-// tetrahedra needs no element buffer of its own. Per-cell data is fetched by the fragment
+// everywhere); a frame's cell list (GlCellList) has one of its own. Per-cell data is fetched by the fragment
 // shaders from buffer textures, not passed down as varyings: on Mesa's llvmpipe the varyings'
 // set-up and gl_PrimitiveID run on one thread before rasterisation, the fetches on every core.
 //   points            vec4 per point (position in the relative frame, scalar)
@@ -59,6 +69,7 @@
 #include "fx/transfer_function.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/program_cache.hpp"
+#include "gl/scatter_pass.hpp"
 #include "gl/shader_library.hpp"
 
 namespace cellfx::fx {
@@ -73,6 +84,17 @@ struct ProgramVariants {
     const gl::Program& operator()(bool scene_depth) const { return scene_depth ? *with_scene_depth : *plain; }
 };
 
+// The per-triangle tables and the element buffer of a mesh (gl_projector's "where the tables are
+// built"): per face triangle its plane, scalar function and (meshes with cells other than
+// tetrahedra) two barycentric rows, and its three vertex ids cell·V + k.
+struct ProjectorTables {
+    std::vector<glm::vec4> planes, scalar_functions, barycentrics;
+    std::vector<std::uint32_t> elements;
+};
+// The same tables built on the CPU from the oriented mesh and its geometry, with the formulas and
+// float inputs the GPU's pass uses: the reference a GPU build is checked against.
+ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell);
+
 class GlProjector {
 public:
     // Uploads the mesh and field (see CellRenderer's constructor) and the function's tables.
@@ -80,16 +102,23 @@ public:
     GlProjector(const GlProjector&) = delete;
     GlProjector& operator=(const GlProjector&) = delete;
 
-    // As CellRenderer::set_mesh / set_scalars / set_transfer_function. set_scalars returns
-    // whether the transfer function in use changed too (a normalized one follows the range).
+    // As CellRenderer::set_mesh / update_mesh / set_scalars / set_transfer_function.
+    // update_mesh returns false when it replaced the mesh whole instead (see
+    // CellRenderer::update_mesh); set_scalars whether the transfer function in use changed too (a
+    // normalized one follows the range).
     void set_mesh(const CellMesh& mesh, const std::string& scalar_name);
+    bool update_mesh(const CellMesh& mesh, const std::string& scalar_name, const MeshChanges& changes);
     bool set_scalars(const std::vector<float>& values);
     void set_transfer_function(const TransferFunction& tf);
+    // Culling (default off): prepare_draw() leaves out of the element buffer the cells whose box
+    // lies outside the view's side and near planes.
+    void set_culling(bool culling);
 
     // The mesh as drawn: inverted cells oriented (orient_cells), fields cleared (the geometry
     // has the one in use).
     const CellMesh& mesh() const { return mesh_; }
-    const ProjectorGeometry& geometry() const { return geometry_; }
+    // With its triangle planes (computed on the CPU here when a change has left them stale).
+    const ProjectorGeometry& geometry() const;
     const TransferFunction& transfer_function() const { return transfer_; } // in the field's units
     std::size_t gpu_bytes() const { return bytes_; }
 
@@ -107,18 +136,28 @@ public:
     bool all_tetrahedra() const { return vertices_per_cell_ == 4; }
     // Cell c's triangles in the element buffer: 3 vertex ids per triangle from 3·first, first =
     // geometry().cell_first_triangle[c]; id = c·V + k for the cell's vertex k.
-    const std::vector<std::uint32_t>& cell_triangle_vertices() const { return cell_triangle_vertices_; }
+    const std::vector<std::uint32_t>& cell_triangle_vertices() const {
+        flush_triangles();
+        return cell_triangle_vertices_;
+    }
+    const std::vector<std::uint32_t>& cell_first_triangle() const { return geometry_.cell_first_triangle; }
+    std::size_t triangle_count() const { return geometry_.triangles.size(); }
     // Binds the mesh's buffer textures and tables (the units of gl_interface.hpp), and the
-    // vertex array whose element buffer is cell_triangle_vertices().
+    // vertex array whose element buffer holds the cells' triangles (culled with culling on).
     void bind_mesh() const;
     GLuint vertex_array() const { return vertex_array_.id(); }
-    GLuint element_buffer() const { return elements_.id(); }
-    // Draws the triangles of slots [first_slot, first_slot + slots) of the mesh's own numbering
-    // (every cell once: slot = cell), or — for a list of tetrahedra, whose pattern is the same
-    // for every slot — of a frame's cell list.
-    void draw_slots(std::size_t first_slot, std::size_t slots) const;
+    // Draws the triangles of cells [first, first + count) of the mesh's own numbering (after
+    // prepare_draw for this view).
+    void draw_slots(std::size_t first, std::size_t count) const;
 
     // ---- per frame ----------------------------------------------------------------------------
+    // Brings the GPU tables up to date with the mesh (and, with culling, the element buffer with
+    // this view): every pass calls it before drawing the mesh. A no-op when nothing changed.
+    void prepare_draw(const Camera& camera, const Viewport& viewport);
+    // The same without a view (the element buffer left as the last view culled it).
+    void prepare_tables();
+    // The GPU's tables read back (tests; with culling off its element buffer is every cell's).
+    ProjectorTables read_tables();
     ProjectorView view(const Camera& camera) const { return make_projector_view(geometry_, camera); }
     // Sets project.glsl's view, table and fragment-ray uniforms on `program`, for drawing into a
     // target of the viewport's size at the origin (the pass's own; the viewport's position
@@ -156,9 +195,19 @@ public:
 
 private:
     void upload_mesh(const CellMesh& source, const std::string& scalar_name);
+    // update_mesh's work once it has checked the changes apply in place.
+    void apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes);
     void upload_point_data();
     void upload_tables(const TransferFunction& tf);
-    void scalar_functions(std::vector<glm::vec4>& out) const; // per triangle, from the geometry's scalars
+    // Room in the table buffers (planes, scalar functions, barycentrics, elements) and the stamps
+    // for the mesh's triangles, cells and points; with `keep`, what is built stays.
+    void reserve_tables(bool keep);
+    // The cell's triangles (geometry_.triangles, cell_triangle_vertices_) from its connectivity;
+    // flush_triangles() those of the cells update_mesh changed (left until a CPU pass asks).
+    void triangulate_cell(std::size_t cell) const;
+    void flush_triangles() const;
+    // prepare_draw's work; `view` null: no view to cull for.
+    void build_tables(const Camera* view, double aspect);
     gl::Texture& attach(gl::Texture& texture, GLenum format, GLuint buffer);
     std::size_t gpu_capacity_bytes() const;
     // The nearest and deepest corners of the mesh's bounds beyond the near plane of `view`
@@ -171,16 +220,19 @@ private:
 
     std::shared_ptr<gl::ProgramCache> programs_;
     CellMesh mesh_;
-    ProjectorGeometry geometry_;
+    mutable ProjectorGeometry geometry_;
+    mutable bool planes_stale_ = false; // geometry_.triangle_planes (the GPU's are always current)
     ScalarRange field_range_;
     Bounds bounds_; // of the relative positions
     TransferFunction source_tf_; // as given: normalized ones are rescaled when the field changes
     TransferFunction transfer_;  // as in use
     int vertices_per_cell_ = 8;
-    std::vector<std::uint32_t> cell_triangle_vertices_;
+    mutable std::vector<std::uint32_t> cell_triangle_vertices_;
+    mutable std::vector<std::uint32_t> untriangulated_; // cells whose CPU triangles are stale
+    mutable std::vector<std::uint8_t> triangles_stale_; // per cell: in untriangulated_
     // What the buffers were filled from, kept so that a new mesh of similar size (terrain
     // prisms, every frame) and new scalars allocate nothing.
-    std::vector<glm::vec4> point_data_, barycentrics_data_;
+    std::vector<glm::vec4> point_data_;
     std::vector<std::uint32_t> words_;
 
     // Grown, never shrunk; planes and scalar functions have room after the mesh's triangles for
@@ -196,7 +248,7 @@ private:
     // Pieces of a frame.
     gl::GrowingBuffer piece_points_;
     gl::Texture piece_points_texture_;
-    std::vector<glm::vec4> piece_data_, function_scratch_;
+    std::vector<glm::vec4> piece_data_;
     // Unique faces (mip).
     std::vector<glm::uvec4> unique_faces_; // point ids, w unused
     FaceTopology topology_;                // kept with its scratch: a new mesh every frame allocates nothing
@@ -206,12 +258,27 @@ private:
     bool unique_faces_ready_ = false;
     // Per-frame storage buffer (caps).
     gl::GrowingBuffer frame_;
+    // The tables' compute pass: point and cell stamps (the update that last changed each), the
+    // stamp of the latest update and of the last build; the changed points' and cells' values
+    // written into place (made on the first update_mesh).
+    gl::GrowingBuffer point_stamps_, cell_stamps_;
+    std::uint32_t stamp_ = 0, built_stamp_ = 0;
+    bool build_all_ = true;   // the next build covers every cell (a new mesh, new scalars)
+    bool elements_all_ = true; // and writes every cell's triangles (a new mesh or view)
+    std::unique_ptr<gl::ScatterPass> point_scatter_, cell_scatter_;
+    const gl::Program* tables_program_ = nullptr; // for meshes of tables_program_cells_ vertices per cell
+    int tables_program_cells_ = 0;
+    // Culling: on or off, the planes of the view the element buffer was last written for.
+    bool culling_ = false, culled_view_valid_ = false;
+    Camera culled_camera_;
+    double culled_aspect_ = 0.0;
 };
 
 // A frame's list of cells to draw through the projector (absorption-exact's visibility order,
 // classic pcp's batches): entry `slot` names a cell (or kPieceBit | a tetrahedron of
-// upload_pieces), and for cells other than tetrahedra the element buffer lists each entry's
-// triangles in the slot numbering. Buffers grow and are kept between frames.
+// upload_pieces), and the element buffer lists each entry's triangles in the slot numbering (for
+// tetrahedra the same pattern in every slot, made once per size). Buffers grow and are kept
+// between frames.
 class GlCellList {
 public:
     explicit GlCellList(const GlProjector& projector);
@@ -231,6 +298,7 @@ private:
 
     const GlProjector& projector_;
     gl::GrowingBuffer cells_, slot_data_, elements_;
+    std::size_t tetra_slots_ = 0; // slots the element buffer has the tetrahedron pattern for
     gl::Texture cells_texture_, slot_data_texture_;
     gl::VertexArray vertex_array_;
     std::size_t slots_ = 0;

@@ -28,7 +28,27 @@ ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarFie
     return g;
 }
 
-void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, ProjectorGeometry& g) {
+glm::vec4 triangle_plane(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double len = glm::length(n);
+    const double scale = std::max({glm::length(b - a), glm::length(c - a), glm::length(c - b)});
+    if (!(len > 1e-12 * scale * scale && len > 0.0)) return glm::vec4(0.0f);
+    const glm::dvec3 u = n / len;
+    return glm::vec4(glm::vec3(u), float(glm::dot(u, (a + b + c) / 3.0)));
+}
+
+void compute_triangle_planes(ProjectorGeometry& g) {
+    resize_kept(g.triangle_planes, g.triangles.size());
+    // In double from the float positions the GPU sees, so CPU and GPU agree on which side of a
+    // plane a point lies.
+    for (std::size_t t = 0; t < g.triangles.size(); ++t) {
+        const auto& tri = g.triangles[t];
+        g.triangle_planes[t] =
+            triangle_plane(glm::dvec3(g.positions[tri[0]]), glm::dvec3(g.positions[tri[1]]), glm::dvec3(g.positions[tri[2]]));
+    }
+}
+
+void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, ProjectorGeometry& g, bool planes) {
     const std::size_t np = mesh.point_count();
     if (scalars && scalars->values.size() != np) {
         throw Error("projector: scalar field '" + scalars->name + "' has " + std::to_string(scalars->values.size()) +
@@ -93,23 +113,11 @@ void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, 
             for (int t = 0; t < n; ++t) {
                 g.triangles.push_back({tri[t][0], tri[t][1], tri[t][2]});
                 g.triangle_cell.push_back(static_cast<std::uint32_t>(c));
-                // Plane in double from the float positions the GPU will see, so CPU and GPU
-                // agree on which side of it a point lies.
-                const glm::dvec3 a(g.positions[tri[t][0]]), b(g.positions[tri[t][1]]), cc(g.positions[tri[t][2]]);
-                const glm::dvec3 n3 = glm::cross(b - a, cc - a);
-                const double len = glm::length(n3);
-                const double scale = std::max({glm::length(b - a), glm::length(cc - a), glm::length(cc - b)});
-                if (len > 1e-12 * scale * scale && len > 0.0) {
-                    const glm::dvec3 u = n3 / len;
-                    const double w = glm::dot(u, (a + b + cc) / 3.0);
-                    g.triangle_planes.emplace_back(glm::vec3(u), float(w));
-                } else {
-                    g.triangle_planes.emplace_back(0.0f);
-                }
             }
         }
         g.cell_first_triangle.push_back(static_cast<std::uint32_t>(g.triangles.size()));
     }
+    if (planes) compute_triangle_planes(g);
 }
 
 double ProjectorView::depth(const glm::dvec3& p) const { return glm::dot(p - eye, forward) - near_distance; }

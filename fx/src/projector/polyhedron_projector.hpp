@@ -69,8 +69,15 @@ constexpr double kMinProjectorExtent = 1.0e-30;
 // a mesh of extent under kMinProjectorExtent (zero extent is no error: nothing to draw).
 ProjectorGeometry build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars);
 // The same into `out`, reusing its storage (a mesh replaced every frame allocates nothing once
-// its sizes have been seen). On a throw `out` is left partly built.
-void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, ProjectorGeometry& out);
+// its sizes have been seen). On a throw `out` is left partly built. Without `planes`,
+// triangle_planes is left empty (the GPU builds its own: gl_projector.hpp); compute_triangle_planes
+// adds them later.
+void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, ProjectorGeometry& out, bool planes = true);
+// Every triangle's plane (triangle_plane) from the geometry's positions and triangles.
+void compute_triangle_planes(ProjectorGeometry& geometry);
+// The outward unit plane of triangle (a, b, c) — n (xyz) and w = n·(its centroid) — in double
+// from the float positions, as every triangle plane is made; zero when the triangle has no area.
+glm::vec4 triangle_plane(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
 
 // The camera in the geometry's relative frame (doubles; the GPU gets floats of these).
 struct ProjectorView {

@@ -96,6 +96,17 @@ void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name
     if (impl_->projector->vertices_per_cell() != vertices_per_cell) impl_->cell_kind_changed();
 }
 
+bool CellRenderer::update_mesh(const CellMesh& mesh, const std::string& scalar_name, const MeshChanges& changes) {
+    // The absorption pass's subdivision, sorts and tables belong to the old mesh.
+    impl_->absorption.reset();
+    const int vertices_per_cell = impl_->projector->vertices_per_cell();
+    const bool in_place = impl_->projector->update_mesh(mesh, scalar_name, changes);
+    if (impl_->projector->vertices_per_cell() != vertices_per_cell) impl_->cell_kind_changed();
+    return in_place;
+}
+
+void CellRenderer::set_culling(bool culling) { impl_->projector->set_culling(culling); }
+
 void CellRenderer::set_scalars(const std::vector<float>& values) {
     // The absorption paths' state (working mesh, sorts, tables) depends on the geometry and the
     // transfer function only; their builders read the scalars from the projector's geometry.
@@ -108,7 +119,7 @@ void CellRenderer::set_parallel_for(const ParallelFor& parallel_for) { impl_->pa
 CellRenderer::~CellRenderer() = default;
 CellRenderer::CellRenderer(CellRenderer&&) noexcept = default;
 
-const GlProjector& ProjectorAccess::projector(const CellRenderer& renderer) { return *renderer.impl_->projector; }
+GlProjector& ProjectorAccess::projector(CellRenderer& renderer) { return *renderer.impl_->projector; }
 CellRenderer& CellRenderer::operator=(CellRenderer&&) noexcept = default;
 
 std::size_t CellRenderer::cell_count() const { return impl_->projector->mesh().cell_count(); }
@@ -145,6 +156,7 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     if (options.timing) glBeginQuery(GL_TIME_ELAPSED, m.timer.id());
 
     gl::StateGuard::set_render_defaults();
+    projector.prepare_draw(camera, viewport); // the GPU's tables (and culled cells) for this mesh and view
     gl::RenderTarget& target = m.target_for(path, viewport.width, viewport.height);
     target.clear(glm::vec4(0.0f));
     target.bind_for_drawing();

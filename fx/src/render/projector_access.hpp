@@ -9,7 +9,7 @@
 namespace cellfx::fx {
 
 struct ProjectorAccess {
-    static const GlProjector& projector(const CellRenderer& renderer);
+    static GlProjector& projector(CellRenderer& renderer);
 };
 
 } // namespace cellfx::fx

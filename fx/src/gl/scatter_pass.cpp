@@ -1,0 +1,60 @@
+#include "gl/scatter_pass.hpp"
+
+#include <string>
+
+#include "fx/error.hpp"
+#include "gl/gl_check.hpp"
+#include "gl/program_cache.hpp"
+#include "gl/shader_library.hpp"
+#include "gl/state_guard.hpp"
+
+namespace cellfx::fx::gl {
+namespace {
+
+// The bindings scatter.comp declares (within those StateGuard saves).
+constexpr GLuint kRecordsBinding = 13, kTargetBinding = 14, kStampsBinding = 15;
+
+} // namespace
+
+ScatterPass::ScatterPass(std::uint32_t words_per_record)
+    : cache_(ProgramCache::for_current_context()), words_per_record_(words_per_record) {
+    if (words_per_record == 0 || words_per_record > 64) throw Error("scatter pass: 1 to 64 words per record");
+    program_ = &cache_->program(ShaderLibrary::builtin(), {"scatter.comp"},
+                                Defines{{"WORDS_PER_RECORD", std::to_string(words_per_record_)}});
+}
+
+ScatterPass::~ScatterPass() = default;
+ScatterPass::ScatterPass(ScatterPass&&) noexcept = default;
+ScatterPass& ScatterPass::operator=(ScatterPass&&) noexcept = default;
+
+std::uint32_t* ScatterPass::add(std::uint32_t at, std::uint32_t words, std::uint32_t stamp_index) {
+    const std::size_t base = records_.size();
+    const std::size_t stride = 4 + words_per_record_;
+    if (records_.capacity() < base + stride) records_.reserve(std::max(base + stride, records_.capacity() * 3 / 2 + 64));
+    records_.resize(base + stride, 0u);
+    records_[base] = at;
+    records_[base + 1] = words;
+    records_[base + 2] = stamp_index;
+    ++count_;
+    return records_.data() + base + 4;
+}
+
+void ScatterPass::run(GLuint target, GLuint stamps, std::uint32_t stamp) {
+    if (count_ == 0) return;
+    staging_.upload(records_.data(), records_.size() * 4);
+    StateGuard guard;
+    const GLuint p = program_->id();
+    glUseProgram(p);
+    glProgramUniform1ui(p, 0, GLuint(count_));
+    glProgramUniform1ui(p, 1, GLuint(stamp));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordsBinding, staging_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTargetBinding, target);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kStampsBinding, stamps ? stamps : target);
+    glDispatchCompute(GLuint((count_ + 63) / 64), 1, 1);
+    // Readers of the target: buffer textures, element and vertex pulls, storage buffers.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT |
+                    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    FX_GL_CHECK("scatter pass");
+}
+
+} // namespace cellfx::fx::gl
