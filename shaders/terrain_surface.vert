@@ -1,15 +1,20 @@
 #version 450 core
-// The terrain surface (terrain/src/gl/surface_renderer.cpp): vertices pulled from a storage
-// buffer by the element index (gl_VertexID under glDrawElements), positions relative to the
-// field's centre.
-layout(std430, binding = 0) readonly buffer VertexBuffer { vec4 vertices[]; };
+// The terrain surface (terrain/src/render/surface_renderer.cpp): the element index is a sample of
+// the height field (j·size + i, gl_VertexID under glDrawElements); its position comes from the
+// grid and its height (as the LOD morphed it) from a storage buffer, relative to the field's
+// centre.
+layout(std430, binding = 0) readonly buffer Heights { float heights[]; }; // per sample, relative frame
 
 layout(location = 0) uniform mat4 u_view_projection; // relative frame → clip space
+layout(location = 16) uniform int u_size;            // samples per side
+layout(location = 17) uniform vec2 u_first_sample;   // relative frame xy of sample (0, 0)
+layout(location = 18) uniform float u_spacing;
 
 layout(location = 0) out vec3 v_position; // relative frame
 
 void main() {
-    vec3 p = vertices[gl_VertexID].xyz;
+    int i = gl_VertexID % u_size, j = gl_VertexID / u_size;
+    vec3 p = vec3(u_first_sample + vec2(i, j) * u_spacing, heights[gl_VertexID]);
     v_position = p;
     gl_Position = u_view_projection * vec4(p, 1.0);
 }

@@ -336,7 +336,7 @@ TEST_CASE("LaserCone: dust is sampled at build and then only when it drifts", "[
 // ---------------------------------------------------------------------------------------------
 // Ground fog and aurora as effects
 
-TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD or the view changed, culled to the view", "[effects][terrain]") {
+TEST_CASE("GroundFog: prisms follow the shared LOD, only what it changed rewritten and listed", "[effects][terrain]") {
     const terrain::HeightField ground = terrain_test::hills(65, 10.0);
     const terrain::HeightField fog_map = terrain::make_valley_fog_map(ground, 0.0, 40.0, {}, 120.0);
     auto lod = std::make_shared<terrain::TerrainLod>(ground, fog_map);
@@ -346,20 +346,11 @@ TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD or the view change
     CHECK(fog.update(view_at(0.0, cam)).mesh);
     require_valid(fog.mesh());
     CHECK(fog.counters().mesh_builds == 1);
-    // The same view again: nothing refined, nothing rebuilt.
-    CHECK_FALSE(fog.update(view_at(0.05, cam)).any());
-    CHECK(fog.counters().mesh_builds == 1);
-    // Same eye, another direction (a camera that turns): the LOD is unchanged (not refined),
-    // the prisms are those of the new view volume.
-    fx::Camera turned = cam;
-    turned.target = {200, 300, 10};
-    CHECK(fog.update(view_at(0.1, turned)).mesh);
-    CHECK(fog.lod_stats().triangles == 0); // no refinement
-    CHECK(fog.counters().mesh_builds == 2);
-    CHECK(fog.prism_stats().culled > 0);
-    // Every prism of the full build that meets the view volume is among those built (culling
-    // leaves out only what the camera cannot see); the others were left out.
-    const fx::Frustum frustum(turned, double(view_at(0.1, turned).viewport_width) / view_at(0.1, turned).viewport_height);
+    CHECK(fog.mesh_changes().whole); // the first mesh is new
+    fog.clear_mesh_changes();
+    // The prisms of the fog are build_layer_prisms' of the extracted LOD (as sets: the order
+    // and the point numbering differ), but those thinner than a millionth of the field's size
+    // whose edges alone changed (LayerPrismTracker); every one of them, not just those in view.
     auto key = [](const fx::CellMesh& m, std::size_t c) {
         std::vector<double> k;
         for (int v = 0; v < 6; ++v) {
@@ -368,36 +359,54 @@ TEST_CASE("GroundFog: prisms rebuilt only when the shared LOD or the view change
         }
         return k;
     };
-    auto box = [](const fx::CellMesh& m, std::size_t c) {
-        fx::Bounds b{glm::dvec3(1e300), glm::dvec3(-1e300)};
-        for (int v = 0; v < 6; ++v) {
-            const glm::dvec3& q = m.points[m.cell_vertices(c)[v]];
-            b.lo = glm::min(b.lo, q), b.hi = glm::max(b.hi, q);
-        }
-        return b;
+    const double thin = 1e-6 * 2.0 * 640.0 * std::sqrt(2.0) * 2.0; // above the LOD's thin-layer bound
+    auto thick = [&](const std::vector<double>& k) {
+        return std::max({k[11] - k[2], k[14] - k[5], k[17] - k[8]}) > thin;
     };
-    std::set<std::vector<double>> built;
-    for (std::size_t c = 0; c < fog.mesh().cell_count(); ++c) built.insert(key(fog.mesh(), c));
-    const fx::CellMesh all = terrain::build_layer_prisms(lod->mesh(), prisms);
-    std::size_t seen = 0, missing = 0;
-    for (std::size_t c = 0; c < all.cell_count(); ++c) {
-        if (!frustum.intersects(box(all, c))) continue;
-        ++seen;
-        missing += built.count(key(all, c)) == 0;
-    }
-    CHECK(seen > 100);
-    CHECK(missing == 0);
-    CHECK(all.cell_count() == fog.mesh().cell_count() + fog.prism_stats().culled);
-    CHECK(fog.mesh().cell_count() < all.cell_count());
-    // Turning a little (within the guard band): the prisms built for the view still cover it.
-    fx::Camera nudged = turned;
-    nudged.target += glm::dvec3(2.0, 0.0, 0.0);
-    CHECK_FALSE(fog.update(view_at(0.15, nudged)).any());
-    // The eye moves far: the LOD refines, the prisms follow.
+    auto same_prisms = [&] {
+        std::set<std::vector<double>> built, all;
+        for (std::size_t c = 0; c < fog.mesh().cell_count(); ++c)
+            if (const auto k = key(fog.mesh(), c); thick(k)) built.insert(k);
+        const fx::CellMesh full = terrain::build_layer_prisms(lod->mesh(), prisms);
+        for (std::size_t c = 0; c < full.cell_count(); ++c)
+            if (const auto k = key(full, c); thick(k)) all.insert(k);
+        CHECK(all.size() > 100);
+        CHECK(built == all);
+    };
+    same_prisms();
+    CHECK(fog.prism_stats().culled == 0);
+    // The same view again, and a camera that only turns: the LOD does not refine, nothing is
+    // rebuilt or listed.
+    CHECK_FALSE(fog.update(view_at(0.05, cam)).any());
+    fx::Camera turned = cam;
+    turned.target = {200, 300, 10};
+    CHECK_FALSE(fog.update(view_at(0.1, turned)).any());
+    CHECK(fog.counters().mesh_builds == 1);
+    CHECK(fog.mesh_changes().cells.empty());
+    CHECK(fog.mesh_changes().points.empty());
+    // The eye moves: the LOD refines and the prisms follow, rewriting (and listing) only what
+    // changed.
+    const std::uint64_t cells_before = fog.counters().cells_built;
     fx::Camera moved = cam;
-    moved.eye = {320, 200, 90};
+    moved.eye = {330, -130, 175};
     CHECK(fog.update(view_at(0.2, moved)).mesh);
-    CHECK(fog.counters().mesh_builds == 3);
+    CHECK(fog.counters().mesh_builds == 2);
+    CHECK_FALSE(fog.mesh_changes().whole);
+    CHECK(fog.mesh_changes().oriented);
+    CHECK(fog.mesh_changes().points.size() + fog.mesh_changes().cells.size() > 0);
+    CHECK(fog.mesh_changes().cells.size() < fog.mesh().cell_count() / 2);
+    CHECK(fog.counters().cells_built - cells_before == fog.mesh_changes().cells.size());
+    for (std::uint32_t c : fog.mesh_changes().cells) CHECK(c < fog.mesh().cell_count());
+    for (std::uint32_t p : fog.mesh_changes().points) CHECK(p < fog.mesh().point_count());
+    same_prisms();
+    require_valid(fog.mesh());
+    // A flight on, each step listing its own changes: still the same prisms.
+    for (int k = 1; k <= 6; ++k) {
+        fog.clear_mesh_changes();
+        moved.eye += glm::dvec3(15.0, 40.0, -10.0);
+        fog.update(view_at(0.2 + 0.1 * k, moved));
+    }
+    same_prisms();
     // The range covers every density the prisms carry; the bounds every point.
     const fx::ScalarRange r = fog.scalar_range();
     for (float v : fog.mesh().scalars[0].values) CHECK(v <= r.hi);

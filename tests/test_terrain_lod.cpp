@@ -108,9 +108,12 @@ TEST_CASE("Incremental updates give exactly what a rebuild gives", "[terrain][lo
     terrain::HeightField fog = terrain::make_height_field_like(ground, [](double x, double y) {
         return std::max(0.0, 30.0 * std::sin(x / 90.0) * std::cos(y / 70.0) + 10.0);
     });
-    for (bool geomorph : {true, false}) {
+    std::size_t examined_stepped = 0, examined_continuous = 0;
+    for (int morph_steps : {8, 0, -1}) { // stepped geomorphing, continuous, none (-1)
+        const bool geomorph = morph_steps >= 0;
         terrain::LodSettings settings;
         settings.geomorph = geomorph;
+        settings.morph_steps = std::max(morph_steps, 0);
         ContinuousLod incremental(ground, fog, settings);
         std::size_t woken = 0, examined = 0, morphing = 0, live = 0, constrained = 0;
         const int frames = 240;
@@ -126,7 +129,7 @@ TEST_CASE("Incremental updates give exactly what a rebuild gives", "[terrain][lo
             if (f % 20 != 7) continue;
             ContinuousLod fresh(ground, fog, settings);
             fresh.update(view_at(eye, 1.5));
-            INFO("geomorph " << geomorph << ", frame " << f);
+            INFO("morph steps " << morph_steps << ", frame " << f);
             const terrain::LodMesh a = incremental.mesh(), b = fresh.mesh();
             REQUIRE(grid_triangles(a) == grid_triangles(b));
             std::size_t height_mismatch = 0;
@@ -139,14 +142,20 @@ TEST_CASE("Incremental updates give exactly what a rebuild gives", "[terrain][lo
             CHECK(height_mismatch == 0); // bit-identical: the same formula on the same inputs
         }
         // Work follows change: nodes are looked at when the eye has moved far enough to change
-        // them (woken) or while they morph (their vertices move every frame), not otherwise.
+        // them (woken: their split state, or a stepped blend's step), or — continuous
+        // geomorphing — every frame while they morph; besides those only the children of nodes
+        // that split (under a twentieth of the tree a frame on this flight).
         INFO("per frame: woken " << double(woken) / frames << ", examined " << double(examined) / frames
                                  << ", morphing " << double(morphing) / frames << ", live " << double(live) / frames);
-        WARN("geomorph " << geomorph << ": nodes whose f_eff came from a coarser node (the K bound did not hold): "
-                         << constrained << " in " << frames << " frames");
-        CHECK(woken < live / 10);
-        CHECK(examined <= woken + morphing + live / 20);
+        WARN("morph steps " << morph_steps << ": nodes whose f_eff came from a coarser node (the K bound did not hold): "
+                            << constrained << " in " << frames << " frames");
+        if (morph_steps != 0) CHECK(examined <= woken + live / 20);
+        else CHECK(examined <= woken + morphing + live / 20);
+        if (morph_steps == -1) CHECK(woken < live / 10); // no morph steps to wake for
+        (morph_steps == 8 ? examined_stepped : morph_steps == 0 ? examined_continuous : examined) = examined;
     }
+    // Stepped geomorphing looks at a morphing node only when its step changes.
+    CHECK(examined_stepped < examined_continuous);
 }
 
 TEST_CASE("A still eye costs nothing and a small step costs little", "[terrain][lod]") {
@@ -155,12 +164,23 @@ TEST_CASE("A still eye costs nothing and a small step costs little", "[terrain][
     const terrain::LodStats first = lod.update(view_at({600, 640, 80}, 1.0));
     CHECK(first.full_rebuild);
     CHECK(first.nodes_examined == first.live_nodes);
-    // Same eye: only the nodes being morphed are looked at (their blend is recomputed).
+    // Same eye: nothing is looked at (stepped geomorphing: no step changes either).
     const terrain::LodStats still = lod.update(view_at({600, 640, 80}, 1.0));
     CHECK_FALSE(still.full_rebuild);
     CHECK(still.splits + still.merges == 0);
     CHECK(still.nodes_woken == 0);
-    CHECK(still.nodes_examined == still.morphing_nodes);
+    CHECK(still.nodes_examined == 0);
+    CHECK(still.vertices_changed == 0);
+    CHECK(lod.changes().vertices.empty());
+    CHECK(lod.changes().fans.empty());
+    // Continuous geomorphing looks at the morphing nodes every frame (their blend is recomputed).
+    terrain::LodSettings continuous;
+    continuous.morph_steps = 0;
+    ContinuousLod smooth(field, continuous);
+    smooth.update(view_at({600, 640, 80}, 1.0));
+    const terrain::LodStats smooth_still = smooth.update(view_at({600, 640, 80}, 1.0));
+    CHECK(smooth_still.morphing_nodes > 0);
+    CHECK(smooth_still.nodes_examined == smooth_still.morphing_nodes);
     // A 0.5-unit step wakes a small fraction of the tree.
     const terrain::LodStats step = lod.update(view_at({600.5, 640, 80}, 1.0));
     INFO("woken " << step.nodes_woken << " of " << step.live_nodes << " live nodes");
@@ -183,9 +203,10 @@ TEST_CASE("Geomorphed heights are continuous along a camera path", "[terrain][lo
     for (glm::dvec2& p : probes) p = {pos(rng), pos(rng)};
 
     // Largest change of the surface height at the probes between consecutive frames.
-    auto largest_jump = [&](bool geomorph, int frames) {
+    auto largest_jump = [&](bool geomorph, int frames, int morph_steps = 0) {
         terrain::LodSettings settings;
         settings.geomorph = geomorph;
+        settings.morph_steps = morph_steps;
         ContinuousLod lod(field, settings);
         std::vector<double> previous;
         double jump = 0.0;
@@ -212,6 +233,12 @@ TEST_CASE("Geomorphed heights are continuous along a camera path", "[terrain][lo
     // With it the change shrinks with the step (continuity: ~1/4 for a 4× finer step; allow 1/2).
     CHECK(morph_fine < 0.5 * morph_coarse);
     CHECK(morph_fine < 0.2 * pop_fine);
+    // Stepped geomorphing (the default, 8 steps): a vertex moves a step of its node's blend at a
+    // time, 1/8 of what it would pop; in one frame also its endpoints' steps, each halved by the
+    // average it takes of them, so under 2/8 of the pop whatever the frame rate.
+    const double stepped_fine = largest_jump(true, 160, 8);
+    WARN("stepped (8): largest height change per frame " << stepped_fine);
+    CHECK(stepped_fine <= 2.0 * pop_fine / 8.0);
 }
 
 TEST_CASE("The fog layer drives refinement where its surface varies", "[terrain][lod]") {

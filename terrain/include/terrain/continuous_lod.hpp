@@ -56,6 +56,34 @@ struct LodSettings {
     // their roughness; it also fixes K = C / (2(C − 1)) for the d2 propagation.
     double min_resolution = 4.0;
     bool geomorph = true;
+    // Geomorph weights move in steps of 1/morph_steps (0: continuously, every node re-examined
+    // every frame). A morphing node is then looked at again only when the eye has moved far
+    // enough for its weight to reach the next step, and its vertices change only then: a moving
+    // camera updates a fraction of the morphing vertices per frame. A step moves a vertex by at
+    // most 1/morph_steps of its node's height error, which is under 2τ pixels while it morphs: at
+    // 8 steps under τ/4 pixels (τ: the LOD's pixel error bound). 0 to 4096.
+    int morph_steps = 8;
+};
+
+// What one update() changed, for consumers that follow the mesh as it changes (fog prisms, the
+// surface's buffers) instead of extracting it whole. Fans live in slots 0 .. fan_count() − 1;
+// a slot listed here holds a fan it did not hold before the update (rebuilt, new, or another
+// fan moved into it), and slots from fan_count() up to fans_before are gone. Vertices are
+// samples (j·size + i) whose morphed height or thickness changed.
+struct LodChanges {
+    bool full = true; // rebuilt from the root (or before the first update): take everything anew
+    std::size_t fans_before = 0;
+    std::vector<std::uint32_t> fans;
+    std::vector<std::uint32_t> vertices;
+};
+
+// One leaf's triangle fan: its centre sample and its ring (corners and the edge midpoints its
+// finer neighbours need), counter-clockwise from above; triangle k is (centre, ring[k],
+// ring[(k + 1) % count]), as extract() makes it.
+struct LodFan {
+    std::uint32_t center = 0;
+    std::uint32_t count = 0;
+    std::uint32_t ring[8] = {};
 };
 
 // What refinement depends on each frame.
@@ -86,6 +114,7 @@ struct LodStats {
     std::size_t splits = 0, merges = 0;
     std::size_t morphing_nodes = 0;  // split nodes with 0 < b < 1
     std::size_t vertices_morphed = 0;// vertex heights recomputed
+    std::size_t vertices_changed = 0;// vertices whose morphed height or thickness changed
     std::size_t fans_rebuilt = 0;
     std::size_t constrained = 0;     // evaluated nodes whose f_eff came from a coarser node
     bool full_rebuild = false;       // the update started from the root
@@ -121,6 +150,14 @@ public:
     LodStats update(const LodView& view);
     // Discards all state: the next update() starts from the root.
     void reset();
+
+    // What the last update() changed (LodChanges; `full` before the first and after reset()).
+    const LodChanges& changes() const;
+    // The fans, by slot, and the vertices as morphed (samples j·size + i).
+    std::size_t fan_count() const;
+    LodFan fan(std::size_t slot) const;
+    glm::dvec3 vertex_position(std::uint32_t sample) const;
+    float vertex_thickness(std::uint32_t sample) const; // 0 without a layer
 
     // The current mesh (empty before the first update).
     void extract(LodMesh& out) const;

@@ -19,13 +19,17 @@
 //   LowerBorder   scale at the bottom, 0 at the top (aurora: brightest where the particles stop).
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "fx/cell_mesh.hpp"
 #include "fx/effect.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
+#include "terrain/terrain_lod.hpp"
 
 namespace cellfx::terrain {
 
@@ -64,6 +68,58 @@ public:
 
 private:
     std::vector<std::uint32_t> bottom_; // LOD vertex → its bottom point in `out`
+};
+
+// The prisms of a TerrainLod followed as it refines: built from its fans once, then after each
+// refinement only the fans it rebuilt and the vertices it moved (ContinuousLod::changes) are
+// written again, into the same mesh — prisms of a rebuilt fan replaced, a removed prism's place
+// taken by the last one, a moved vertex's two points rewritten — and listed in an
+// fx::MeshChanges for fx::CellRenderer::update_mesh. A LOD version it did not follow (skipped
+// frames, a rebuild from the root) is built whole.
+//
+// Which prisms: build_layer_prisms' (a triangle whose corners' thicknesses sum to more than a
+// millionth of its longest edge), decided when its fan is built; a fan is built again when a
+// vertex of it gains or loses its thickness (ContinuousLod lists it), so the mesh holds the
+// prisms build_layer_prisms would make of the extracted LOD — up to triangles thinner than a
+// millionth of the field's size throughout, whose edges alone changed — with the same points, in
+// another order. Points come in pairs (bottom, top) per LOD vertex that carries a prism, reused
+// when freed; the mesh may hold unused pairs.
+//
+// Not view-culled: every prism of the LOD is in the mesh (CellRenderer::set_culling draws those in
+// view). Ownership: owns its bookkeeping (a few bytes per sample of the field, kept between
+// frames: a steady refinement allocates nothing).
+class LayerPrismTracker {
+public:
+    // Brings `out` up to date with `lod` (built with a layer) and adds what changed to `changes`
+    // (which the caller clears once it has used them). Returns true if `out` changed. Throws
+    // like build_layer_prisms.
+    bool update(const TerrainLod& lod, const LayerPrismOptions& options, fx::CellMesh& out, fx::MeshChanges& changes,
+                LayerPrismStats* stats = nullptr);
+    // Forgets what it built: the next update() builds whole.
+    void reset() { built_ = nullptr; }
+
+private:
+    void build_whole(const ContinuousLod& lod, const LayerPrismOptions& options, fx::CellMesh& out, fx::MeshChanges& changes);
+    void set_points(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t pair, fx::CellMesh& out,
+                    fx::MeshChanges& changes);
+    std::uint32_t acquire_pair(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t sample,
+                               fx::CellMesh& out, fx::MeshChanges& changes);
+    void release_pair(std::uint32_t sample);
+    void add_fan(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t slot, fx::CellMesh& out,
+                 fx::MeshChanges& changes);
+    void remove_fan(std::uint32_t slot, fx::CellMesh& out, fx::MeshChanges& changes);
+    void cell_changed(std::uint32_t cell, fx::MeshChanges& changes);
+
+    const TerrainLod* built_ = nullptr; // the LOD and version `out` holds
+    std::uint64_t version_ = 0;
+    std::vector<std::uint32_t> sample_pair_;  // per sample: its point pair, or none
+    std::vector<std::uint32_t> pair_sample_, pair_refs_, free_pairs_;
+    std::vector<std::array<std::uint32_t, 8>> slot_cells_; // per fan slot: its prisms' cells
+    std::vector<std::uint8_t> slot_prisms_;
+    std::vector<std::uint32_t> cell_owner_;   // per cell: fan slot · 8 + triangle
+    std::vector<std::uint32_t> cell_listed_;  // per cell: the update that last listed it
+    std::vector<std::uint32_t> pair_listed_;  // per pair: the same for its points
+    std::uint32_t update_count_ = 0;
 };
 
 // A valley fog map: the fog fills the ground up to `level` (+ `modulation(x, y)` when given,

@@ -5,12 +5,12 @@
 // Based on: Roettger & Ertl 2003, §5 — prisms stacked on the triangles of a continuous-LOD
 // height field (fog_layer.hpp), the aurora the same stack hung from a ceiling (aurora.hpp).
 //
-// Both are view-dependent: update() refines their LOD for the camera (TerrainLod: nothing for
-// the view of the previous frame, e.g. a camera that only turns) and builds the prisms of the
-// triangles in the view volume widened by a few degrees (culled to the frustum, into the same
-// storage every frame) when the LOD mesh changed or the camera turned out of that volume;
-// otherwise it reports no change and the renderer uploads nothing.
-// They live in world coordinates (transform() is the identity).
+// Both follow a view-dependent LOD: update() refines their LOD for the camera (TerrainLod:
+// nothing for the view of the previous frame, e.g. a camera that only turns) and, when it
+// changed, writes only the prisms of the fans and vertices the refinement changed
+// (LayerPrismTracker) and lists them in mesh_changes(), so the renderer uploads only those; the
+// prisms are not culled on the CPU (the scene renderer draws those in view: CellRenderer::
+// set_culling). They live in world coordinates (transform() is the identity).
 #pragma once
 
 #include <cstddef>
@@ -24,28 +24,32 @@
 
 namespace cellfx::terrain {
 
-// The view volume prisms were culled to: the camera's, widened by a few degrees every way, so a
-// camera that turns a little (or moves without changing the LOD) keeps its prisms.
-class CulledView {
-public:
-    void set(const fx::EffectView& view);
-    bool covers(const fx::EffectView& view) const; // its view volume lies inside the widened one
-    const fx::Frustum& frustum() const { return frustum_; }
-
-private:
-    bool built_ = false;
-    fx::EffectView view_;
-    fx::Frustum frustum_{fx::Camera{}, 1.0};
-};
-
 struct LayerEffectSettings {
     double pixel_error = 2.0;         // the LOD's screen-space error bound (LodView::pixel_error)
     std::size_t triangle_budget = 0;  // LodView::triangle_budget (0: none)
 };
 
+// What the fog and the aurora share: prisms following a LOD.
+class LayerEffect : public fx::Effect {
+public:
+    const LayerPrismStats& prism_stats() const { return prism_stats_; } // of the current mesh
+    const LodStats& lod_stats() const { return lod_stats_; }           // of the last update
+    LayerEffectSettings& settings() { return settings_; }
+
+protected:
+    LayerEffect(std::string scalar_name, const LayerEffectSettings& settings);
+    // The prisms brought up to the LOD's state (nothing when it did not change).
+    fx::EffectChanges follow_lod(const TerrainLod& lod, const LayerPrismOptions& options);
+
+    LayerEffectSettings settings_;
+    LayerPrismTracker tracker_;
+    LayerPrismStats prism_stats_;
+    LodStats lod_stats_;
+};
+
 // Fog prisms on a terrain LOD built with the fog map as its layer. The LOD is shared: the scene
 // draws the terrain surface from the same TerrainLod, which refines once per view for both.
-class GroundFog final : public fx::Effect {
+class GroundFog final : public LayerEffect {
 public:
     // `lod` must carry a layer (the fog map); `thickness` is that fog map (for the bounds and the
     // scalar range). Throws fx::Error for a LOD without a layer, a fog map on another grid, or
@@ -57,10 +61,7 @@ public:
     const char* type_name() const override { return kTypeName; }
     fx::ScalarRange scalar_range() const override { return range_; }
 
-    const LayerPrismStats& prism_stats() const { return prism_stats_; } // of the current mesh
-    const LodStats& lod_stats() const { return lod_stats_; }           // of the last update
     const TerrainLod& lod() const { return *lod_; }
-    LayerEffectSettings& settings() { return settings_; }
 
 private:
     fx::EffectChanges simulate(const fx::EffectView& view) override;
@@ -68,20 +69,14 @@ private:
 
     std::shared_ptr<TerrainLod> lod_;
     LayerPrismOptions prisms_;
-    LayerEffectSettings settings_;
     fx::Bounds bounds_;
     fx::ScalarRange range_;
-    std::uint64_t built_version_ = 0;
-    CulledView culled_;
-    LayerPrismBuilder builder_;
-    LayerPrismStats prism_stats_;
-    LodStats lod_stats_;
 };
 
 // Aurora curtains: prisms hanging from the ceiling by the penetration depth (make_aurora_layer),
 // on their own LOD, density LayerDensity::LowerBorder (1 where the particles stop, 0 at the
 // ceiling): scalar "emission" in [0, 1].
-class Aurora final : public fx::Effect {
+class Aurora final : public LayerEffect {
 public:
     // Throws like ContinuousLod's constructor.
     explicit Aurora(const AuroraLayer& layer, const LodSettings& lod = {}, const LayerEffectSettings& settings = {});
@@ -90,24 +85,15 @@ public:
     const char* type_name() const override { return kTypeName; }
     fx::ScalarRange scalar_range() const override { return {0.0f, 1.0f}; }
 
-    const LayerPrismStats& prism_stats() const { return prism_stats_; }
-    const LodStats& lod_stats() const { return lod_stats_; }
     const TerrainLod& lod() const { return lod_; }
-    LayerEffectSettings& settings() { return settings_; }
 
 private:
     fx::EffectChanges simulate(const fx::EffectView& view) override;
     fx::Bounds local_bounds() const override { return bounds_; }
 
     TerrainLod lod_;
-    LayerEffectSettings settings_;
     LayerPrismOptions prisms_;
     fx::Bounds bounds_;
-    std::uint64_t built_version_ = 0;
-    CulledView culled_;
-    LayerPrismBuilder builder_;
-    LayerPrismStats prism_stats_;
-    LodStats lod_stats_;
 };
 
 } // namespace cellfx::terrain

@@ -15,10 +15,6 @@ bool same_view(const LodView& a, const LodView& b) {
            a.triangle_budget == b.triangle_budget;
 }
 
-bool same_mesh(const LodMesh& a, const LodMesh& b) {
-    return a.triangles == b.triangles && a.positions == b.positions && a.thickness == b.thickness;
-}
-
 ContinuousLod make_lod(HeightField ground, std::optional<HeightField> layer, const LodSettings& settings) {
     return layer ? ContinuousLod(std::move(ground), std::move(*layer), settings) : ContinuousLod(std::move(ground), settings);
 }
@@ -32,18 +28,25 @@ bool TerrainLod::update(const LodView& view, LodStats* stats) {
     update_ms_ = extract_ms_ = 0.0;
     if (stats) *stats = LodStats{};
     if (last_view_ && same_view(*last_view_, view)) return false;
-    auto t = Clock::now();
+    const auto t = Clock::now();
     const LodStats s = lod_.update(view);
     update_ms_ = ms_since(t);
     if (stats) *stats = s;
     last_view_ = view;
-    t = Clock::now();
-    std::swap(previous_, mesh_);
-    lod_.extract(mesh_);
-    extract_ms_ = ms_since(t);
-    if (version_ > 0 && same_mesh(mesh_, previous_)) return false;
+    const LodChanges& c = lod_.changes();
+    if (version_ > 0 && !c.full && c.fans.empty() && c.vertices.empty() && c.fans_before == lod_.fan_count()) return false;
     ++version_;
     return true;
+}
+
+const LodMesh& TerrainLod::mesh() const {
+    if (extracted_version_ != version_) {
+        const auto t = Clock::now();
+        lod_.extract(mesh_);
+        extracted_version_ = version_;
+        extract_ms_ = ms_since(t);
+    }
+    return mesh_;
 }
 
 void TerrainLod::reset() {

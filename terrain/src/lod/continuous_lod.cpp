@@ -103,6 +103,7 @@ struct ContinuousLod::Impl {
     struct Node {
         float d2 = 0.0f;
         float fe = 0.0f;                 // f_eff memo, valid when fe_frame == frame
+        float blend_f = 0.0f;            // f_eff at the node's own last evaluation: its blend's
         std::uint32_t fe_frame = 0;
         std::uint32_t generation = 0;    // bumped when the node is rescheduled or removed
         std::int32_t fan = kNoFan;
@@ -112,6 +113,7 @@ struct ContinuousLod::Impl {
         float true_h = 0.0f, true_t = 0.0f; // the fields' samples
         float h = 0.0f, t = 0.0f;           // geomorphed height and thickness
         std::uint32_t local = std::numeric_limits<std::uint32_t>::max(); // extract(): vertex id
+        std::uint32_t changed = 0;          // the frame it last went into changes.vertices
     };
     std::vector<Node> nodes;
     mutable std::vector<Vertex> verts;
@@ -119,9 +121,16 @@ struct ContinuousLod::Impl {
     std::size_t triangles = 0;
     std::size_t live = 0;
     WakeHeap wakes;
+    std::vector<Wake> morph_wakes; // the morphing nodes' (stepped geomorphing), unordered
     std::vector<std::uint32_t> morphing, next_morphing;
     std::array<std::vector<std::uint32_t>, kLevels> candidates, vertex_dirty;
     std::vector<std::uint32_t> fan_dirty, touched;
+    LodChanges changes;                   // of the last update
+    std::vector<std::uint32_t> fan_changed; // per fan slot: the frame it last went into changes.fans
+    std::size_t morphing_count = 0;         // split nodes with 0 < b < 1
+    // A layer thinner than this is no layer: a millionth of the longest edge a triangle of the
+    // field can have (build_layer_prisms' rule is relative to the triangle's own longest edge).
+    double thin_layer = 0.0;
 
     std::uint32_t frame = 0;
     double odometer = 0.0;
@@ -184,11 +193,25 @@ struct ContinuousLod::Impl {
         nodes[s].fe_frame = frame;
         return nodes[s].fe;
     }
+    // How many steps the node's weight takes from 0 to 1 (LodSettings::morph_steps): so that a
+    // step moves a vertex by at most 2τ/morph_steps pixels. While a node morphs its height error
+    // covers under 2τ·min(c·d2, 1) pixels (f < 1 splits it where the error reaches τ pixels, or
+    // earlier by the C·d rule where the ground is smooth), so a smooth node needs fewer steps.
+    int morph_steps(std::uint32_t s) const {
+        const double rough = std::min(c_eff * double(nodes[s].d2), 1.0);
+        return std::clamp(int(std::ceil(settings.morph_steps * rough)), 1, settings.morph_steps);
+    }
+    // The node's geomorph weight b, in steps (morph_steps above; continuous with none).
     double blend(std::uint32_t s) const {
         const std::uint8_t st = nodes[s].state;
         if (!(st & kSplit)) return 0.0;
         if (!settings.geomorph || !(st & kMorph)) return 1.0;
-        return std::clamp(2.0 * (1.0 - double(nodes[s].fe)), 0.0, 1.0);
+        // From the node's own evaluation, not the memo a finer node's constraint chain may have
+        // refreshed since: its vertices were computed with this one.
+        const double b = std::clamp(2.0 * (1.0 - double(nodes[s].blend_f)), 0.0, 1.0);
+        if (settings.morph_steps <= 0) return b;
+        const int steps = morph_steps(s);
+        return std::round(b * steps) / steps;
     }
 
     void mark(std::uint32_t s, std::uint8_t flag) {
@@ -217,17 +240,34 @@ struct ContinuousLod::Impl {
 
     void schedule(std::uint32_t s, int h, double f) {
         const bool split = nodes[s].state & kSplit;
+        const bool was_morphing = nodes[s].state & kMorph;
+        double margin = 0.0;
         if (split && settings.geomorph && f > 0.5) {
             nodes[s].state |= kMorph;
-            next_morphing.push_back(s);
-            ++nodes[s].generation; // no wake-up needed: looked at every frame
-            return;
+            if (settings.morph_steps <= 0) {
+                morphing_count += was_morphing ? 0 : 1;
+                next_morphing.push_back(s);
+                ++nodes[s].generation; // no wake-up needed: looked at every frame
+                return;
+            }
+            // Looked at again when b·steps may cross a half step (its rounded value changes) or f
+            // may leave (0.5, 1): b = 2(1 − f), so f moves by 1/(2·steps) per step of b.
+            const int steps = morph_steps(s);
+            const double x = 2.0 * (1.0 - f) * steps;
+            margin = std::min({std::abs(x - std::floor(x) - 0.5) / (2.0 * steps), f - 0.5, 1.0 - f});
+        } else {
+            nodes[s].state &= std::uint8_t(~kMorph);
+            margin = split ? (settings.geomorph ? 0.5 - f : 1.0 - f) : f - 1.0;
         }
-        nodes[s].state &= std::uint8_t(~kMorph);
-        const double margin = split ? (settings.geomorph ? 0.5 - f : 1.0 - f) : f - 1.0;
+        const bool morphing = nodes[s].state & kMorph;
+        morphing_count = morphing_count + (morphing ? 1 : 0) - (was_morphing ? 1 : 0);
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
         const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
-        wakes.push(Wake{odometer + travel, s, ++nodes[s].generation});
+        const Wake w{odometer + travel, s, ++nodes[s].generation};
+        // Morphing nodes come due every few frames: a list scanned once a frame is cheaper for
+        // them than a heap (see advance()); the others may sleep for a long flight.
+        if (nodes[s].state & kMorph) morph_wakes.push_back(w);
+        else wakes.push(w);
     }
 
     void evaluate(std::uint32_t s, int h) {
@@ -235,13 +275,16 @@ struct ContinuousLod::Impl {
         mark(s, kEvaluated);
         ++stats->nodes_examined;
         const std::uint8_t before = nodes[s].state;
+        const double blend_before = blend(s); // from the f of its last evaluation
         const double f = f_eff(s, h);
+        nodes[s].blend_f = float(f);
         if (f > own_f(s, h) * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
         const bool want = f < 1.0;
         if (want && !(before & kSplit)) split(s, h);
         else if (!want && (before & kSplit)) merge(s, h);
         schedule(s, h, f);
-        if ((before & (kMorph | kSplit)) != (nodes[s].state & (kMorph | kSplit)) || (nodes[s].state & kMorph))
+        const std::uint8_t after = nodes[s].state;
+        if ((before & (kMorph | kSplit)) != (after & (kMorph | kSplit)) || blend(s) != blend_before)
             mark(s, kVertexDirty);
     }
 
@@ -263,6 +306,7 @@ struct ContinuousLod::Impl {
     }
 
     void merge(std::uint32_t s, int h) {
+        if (nodes[s].state & kMorph) --morphing_count;
         nodes[s].state &= std::uint8_t(~(kSplit | kMorph));
         ++stats->merges;
         const int i = ix(s), j = jy(s);
@@ -283,6 +327,7 @@ struct ContinuousLod::Impl {
             for (int c = 0; c < 4; ++c) remove(id(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q)), q);
         }
         const bool was_split = nodes[s].state & kSplit;
+        if (nodes[s].state & kMorph) --morphing_count;
         nodes[s].state = 0;
         --live;
         ++nodes[s].generation;
@@ -291,32 +336,93 @@ struct ContinuousLod::Impl {
     }
 
     // ---- geomorphing ----
-    void morph_vertex(std::uint32_t v, std::uint32_t a, std::uint32_t b, double w) {
+    // Returns whether the vertex changed (then it is in changes.vertices).
+    bool morph_vertex(std::uint32_t v, std::uint32_t a, std::uint32_t b, double w) {
         // (1 − w)·coarse + w·true: exactly the true value at w = 1, the coarse one at w = 0.
-        verts[v].h = float((1.0 - w) * 0.5 * (double(verts[a].h) + verts[b].h) + w * true_height(v));
-        if (layer) verts[v].t = float((1.0 - w) * 0.5 * (double(verts[a].t) + verts[b].t) + w * true_thickness(v));
+        Vertex& x = verts[v];
+        const float h = float((1.0 - w) * 0.5 * (double(verts[a].h) + verts[b].h) + w * true_height(v));
+        const float t = layer ? float((1.0 - w) * 0.5 * (double(verts[a].t) + verts[b].t) + w * true_thickness(v)) : x.t;
         if (w > 0.0 && w < 1.0) ++stats->vertices_morphed;
+        if (h == x.h && t == x.t) return false;
+        // A prism stands on a triangle whose corners carry thickness: when this vertex's
+        // thickness appears or vanishes, the fans around it say so (LodChanges).
+        if (layer && (x.t > thin_layer) != (t > thin_layer)) fans_touching_changed(v);
+        x.h = h, x.t = t;
+        if (x.changed != frame) {
+            x.changed = frame;
+            changes.vertices.push_back(v);
+            ++stats->vertices_changed;
+        }
+        return true;
     }
     void update_vertices(std::uint32_t s) {
         const int i = ix(s), j = jy(s), h = half_size(s);
         const double b = blend(s);
         static const int ci[4] = {-1, 1, 1, -1}, cj[4] = {-1, -1, 1, 1}; // SW SE NE NW
+        bool changed = false;
         for (int side = 0; side < 4; ++side) {
             const int a = side, c = (side + 1) % 4; // side s runs from corner s to corner s + 1
             const std::uint32_t ka = id(i + ci[a] * h, j + cj[a] * h), kc = id(i + ci[c] * h, j + cj[c] * h);
             const std::uint32_t m = id((ix(ka) + ix(kc)) / 2, (jy(ka) + jy(kc)) / 2);
             std::uint32_t other;
             const double bo = neighbour(i, j, h, side, other) && (nodes[other].state & kLive) ? blend(other) : 0.0;
-            morph_vertex(m, ka, kc, std::max(b, bo));
+            changed = morph_vertex(m, ka, kc, std::max(b, bo)) || changed;
         }
-        if (h < 2 || b <= 0.0) return;
-        for (int c = 0; c < 4; ++c) {
-            const std::uint32_t k = id(i + ci[c] * h, j + cj[c] * h);
-            morph_vertex(id(i + ci[c] * h / 2, j + cj[c] * h / 2), s, k, b);
+        // A split node's children's centres, at b = 0 too (a stepped blend rounds to 0 just
+        // after the split: the centres sit where the coarse surface is).
+        if (h >= 2 && (nodes[s].state & kSplit))
+            for (int c = 0; c < 4; ++c) {
+                const std::uint32_t k = id(i + ci[c] * h, j + cj[c] * h);
+                changed = morph_vertex(id(i + ci[c] * h / 2, j + cj[c] * h / 2), s, k, b) || changed;
+            }
+        if (changed) mark_dependents(i, j, h);
+    }
+    // Every drawn fan that has sample v as its centre or in its ring, listed as changed.
+    void fans_touching_changed(std::uint32_t v) {
+        const int i = ix(v), j = jy(v);
+        for (int h = 1; h <= root_h; h *= 2) {
+            // The nodes of this size whose closed square holds v: centres at odd multiples of h
+            // within h of it on both axes.
+            for (int ci : {i - h, i, i + h})
+                for (int cj : {j - h, j, j + h}) {
+                    if (!center(ci, cj) || half_size(id(ci, cj)) != h) continue;
+                    const std::int32_t f = nodes[id(ci, cj)].fan;
+                    if (f == kNoFan) continue;
+                    const Fan& fan = fans[std::size_t(f)];
+                    bool in = fan.node == v;
+                    for (std::uint32_t k = 0; k < fan.count && !in; ++k) in = fan.ring[k] == v;
+                    if (in) fan_slot_changed(std::size_t(f));
+                }
+        }
+    }
+    // The nodes whose vertices blend between this node's (its edge midpoints and its children's
+    // centres): its children, and each same-size neighbour's two children along the shared side.
+    // Marked for their vertices to be recomputed after this node's (finer levels come later).
+    void mark_dependents(int i, int j, int h) {
+        if (h < 2) return;
+        const int q = h / 2;
+        const auto dirty = [&](int a, int b) {
+            const std::uint32_t c = id(a, b);
+            if ((nodes[c].state & kLive) && (nodes[c].state & kSplit)) mark(c, kVertexDirty);
+        };
+        for (int c = 0; c < 4; ++c) dirty(i + ((c & 1) ? q : -q), j + ((c & 2) ? q : -q));
+        static const int di[4] = {0, 1, 0, -1}, dj[4] = {-1, 0, 1, 0};
+        for (int side = 0; side < 4; ++side) {
+            std::uint32_t other;
+            if (!neighbour(i, j, h, side, other) || !(nodes[other].state & kLive) || !(nodes[other].state & kSplit)) continue;
+            const int a = ix(other), b = jy(other);
+            if (di[side] != 0) dirty(a - di[side] * q, b - q), dirty(a - di[side] * q, b + q);
+            else dirty(a - q, b - dj[side] * q), dirty(a + q, b - dj[side] * q);
         }
     }
 
     // ---- fans ----
+    void fan_slot_changed(std::size_t f) {
+        if (fan_changed.size() <= f) fan_changed.resize(std::max(f + 1, fan_changed.size() + fan_changed.size() / 2), 0u);
+        if (fan_changed[f] == frame) return;
+        fan_changed[f] = frame;
+        changes.fans.push_back(std::uint32_t(f));
+    }
     void drop_fan(std::uint32_t s) {
         const std::int32_t f = nodes[s].fan;
         if (f == kNoFan) return;
@@ -325,6 +431,7 @@ struct ContinuousLod::Impl {
         nodes[fans[f].node].fan = f;
         fans.pop_back();
         nodes[s].fan = kNoFan;
+        if (std::size_t(f) < fans.size()) fan_slot_changed(std::size_t(f)); // the last fan moved in
     }
     void rebuild_fan(std::uint32_t s) {
         const std::uint8_t st = nodes[s].state;
@@ -356,6 +463,7 @@ struct ContinuousLod::Impl {
             fans[nodes[s].fan] = fan;
         }
         triangles += fan.count;
+        fan_slot_changed(std::size_t(nodes[s].fan));
     }
 
     // ---- one update ----
@@ -378,11 +486,13 @@ struct ContinuousLod::Impl {
     void rebuild() {
         remove(root, root_h);
         wakes.clear();
+        morph_wakes.clear();
         morphing.clear();
         next_morphing.clear();
         odometer = 0.0;
         ++frame;
         stats->full_rebuild = true;
+        changes.full = true;
         nodes[root].state = kLive;
         ++live;
         mark(root, kFanDirty);
@@ -394,14 +504,26 @@ struct ContinuousLod::Impl {
         odometer += glm::length(eye - last_eye);
         last_eye = eye;
         ++frame;
-        while (!wakes.empty() && wakes.top().at <= odometer) {
-            const Wake w = wakes.top();
-            wakes.pop();
+        const auto wake = [&](const Wake& w) {
             if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive) && !(nodes[w.node].flags & kCandidate)) {
                 mark(w.node, kCandidate);
                 ++stats->nodes_woken;
             }
+        };
+        while (!wakes.empty() && wakes.top().at <= odometer) {
+            const Wake w = wakes.top();
+            wakes.pop();
+            wake(w);
         }
+        // The morphing nodes' wake-ups: those due are woken (and rescheduled by evaluate()),
+        // stale ones dropped, the rest kept in place.
+        std::size_t kept = 0;
+        for (const Wake& w : morph_wakes) {
+            if (w.generation != nodes[w.node].generation) continue;
+            if (w.at <= odometer) wake(w);
+            else morph_wakes[kept++] = w;
+        }
+        morph_wakes.resize(kept);
         for (std::uint32_t s : morphing)
             if (nodes[s].state & kLive) mark(s, kCandidate);
         for (int l = kLevels - 1; l >= 0; --l) {
@@ -427,6 +549,8 @@ struct ContinuousLod::Impl {
             throw fx::Error("terrain LOD: the height field must have (2^n + 1)² samples, 3 ≤ 2^n + 1 ≤ 16385");
         if (!(s.min_resolution > 1.0) || !std::isfinite(s.min_resolution))
             throw fx::Error("terrain LOD: min_resolution (C) must be finite and greater than 1");
+        if (s.morph_steps < 0 || s.morph_steps > 4096)
+            throw fx::Error("terrain LOD: morph_steps must be 0 (continuous) to 4096, got " + std::to_string(s.morph_steps));
         for (std::size_t k = 0; k < g.heights.size(); ++k)
             if (!std::isfinite(g.heights[k]))
                 throw fx::Error("terrain LOD: the height at sample (" + std::to_string(k % g.size) + ", " +
@@ -453,6 +577,11 @@ struct ContinuousLod::Impl {
             verts[k].true_t = verts[k].t = layer ? layer->heights[k] : 0.0f;
         }
         compute_roughness();
+        if (layer) {
+            const double across = 2.0 * root_h * ground.spacing * std::sqrt(2.0);
+            const double rise = double(ground.max_height()) - ground.min_height() + layer->max_height();
+            thin_layer = 1e-6 * std::sqrt(across * across + rise * rise);
+        }
     }
 
     // d2 bottom-up (§3): the node's own error over its 3×3 samples, then at least K times that
@@ -516,6 +645,10 @@ LodStats ContinuousLod::update(const LodView& view) {
     const auto start = std::chrono::steady_clock::now();
     LodStats stats;
     m.stats = &stats;
+    m.changes.full = false;
+    m.changes.fans_before = m.fans.size();
+    m.changes.fans.clear();
+    m.changes.vertices.clear();
 
     const bool same_view = m.have_state && view.projection_scale == m.last_view.projection_scale &&
                            view.pixel_error == m.last_view.pixel_error &&
@@ -560,7 +693,7 @@ LodStats ContinuousLod::update(const LodView& view) {
 
     stats.triangles = m.triangles;
     stats.live_nodes = m.live;
-    stats.morphing_nodes = m.morphing.size();
+    stats.morphing_nodes = m.morphing_count;
     stats.error_scale = m.budget_scale;
     m.stats = nullptr;
     stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -578,9 +711,12 @@ void ContinuousLod::reset() {
     m.touched.clear();
     for (auto& v : m.vertex_dirty) v.clear();
     m.wakes.clear();
+    m.morph_wakes.clear();
     m.morphing.clear();
     for (Impl::Vertex& v : m.verts) v.h = v.true_h, v.t = v.true_t;
     m.have_state = false;
+    m.morphing_count = 0;
+    m.changes.full = true;
     m.stats = nullptr;
 }
 
@@ -613,6 +749,27 @@ void ContinuousLod::extract(LodMesh& out) const {
             out.triangles.push_back({c, local(f.ring[k]), local(f.ring[(k + 1) % f.count])});
     }
     for (std::uint32_t s : out.grid_index) m.verts[s].local = std::numeric_limits<std::uint32_t>::max();
+}
+
+const LodChanges& ContinuousLod::changes() const { return impl_->changes; }
+std::size_t ContinuousLod::fan_count() const { return impl_->fans.size(); }
+
+LodFan ContinuousLod::fan(std::size_t slot) const {
+    const Fan& f = impl_->fans[slot];
+    LodFan out;
+    out.center = f.node;
+    out.count = f.count;
+    for (std::uint32_t k = 0; k < f.count; ++k) out.ring[k] = f.ring[k];
+    return out;
+}
+
+glm::dvec3 ContinuousLod::vertex_position(std::uint32_t sample) const {
+    const Impl& m = *impl_;
+    return {m.ground.x(m.ix(sample)), m.ground.y(m.jy(sample)), double(m.verts[sample].h)};
+}
+
+float ContinuousLod::vertex_thickness(std::uint32_t sample) const {
+    return impl_->layer ? std::max(impl_->verts[sample].t, 0.0f) : 0.0f;
 }
 
 LodMesh ContinuousLod::mesh() const {

@@ -2,6 +2,7 @@
 // triangle onto which a vertically aligned prism is stacked", heights from the fog map, density
 // zero at the bottom and rising with the layer height (the MIP set-up).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -91,6 +92,206 @@ void LayerPrismBuilder::build(const LodMesh& mesh, const LayerPrismOptions& opti
     }
     s.points = out.points.size();
     if (stats) *stats = s;
+}
+
+namespace {
+constexpr std::uint32_t kNoPair = std::numeric_limits<std::uint32_t>::max();
+}
+
+void LayerPrismTracker::set_points(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t pair,
+                                   fx::CellMesh& out, fx::MeshChanges& changes) {
+    const std::uint32_t sample = pair_sample_[pair];
+    const glm::dvec3 p = lod.vertex_position(sample);
+    const double t = lod.vertex_thickness(sample);
+    out.points[2 * pair] = p;
+    out.points[2 * pair + 1] = p + glm::dvec3(0.0, 0.0, t);
+    std::vector<float>& density = out.scalars[0].values;
+    if (options.density == LayerDensity::LayerHeight) density[2 * pair + 1] = float(options.density_scale * t);
+    if (pair_listed_[pair] != update_count_) {
+        pair_listed_[pair] = update_count_;
+        changes.points.push_back(2 * pair);
+        changes.points.push_back(2 * pair + 1);
+    }
+}
+
+std::uint32_t LayerPrismTracker::acquire_pair(const ContinuousLod& lod, const LayerPrismOptions& options,
+                                              std::uint32_t sample, fx::CellMesh& out, fx::MeshChanges& changes) {
+    std::uint32_t pair = sample_pair_[sample];
+    if (pair != kNoPair) {
+        ++pair_refs_[pair];
+        return pair;
+    }
+    if (!free_pairs_.empty()) {
+        pair = free_pairs_.back();
+        free_pairs_.pop_back();
+    } else {
+        pair = std::uint32_t(pair_sample_.size());
+        pair_sample_.push_back(0), pair_refs_.push_back(0), pair_listed_.push_back(0);
+        out.points.resize(out.points.size() + 2);
+        out.scalars[0].values.resize(out.scalars[0].values.size() + 2);
+    }
+    sample_pair_[sample] = pair;
+    pair_sample_[pair] = sample;
+    pair_refs_[pair] = 1;
+    // The density of both ends (build_layer_prisms' rules); LayerHeight's top follows the
+    // thickness in set_points.
+    const glm::dvec3 p = lod.vertex_position(sample);
+    double lo = 0.0, hi = 0.0;
+    switch (options.density) {
+    case LayerDensity::LayerHeight: break;
+    case LayerDensity::Noise: {
+        const double v = options.noise(p.x, p.y);
+        if (!std::isfinite(v))
+            throw fx::Error("layer prisms: the noise generator gave a non-finite value at (" + std::to_string(p.x) + ", " +
+                            std::to_string(p.y) + ")");
+        lo = hi = options.density_scale * std::max(v, 0.0);
+        break;
+    }
+    case LayerDensity::LowerBorder: lo = options.density_scale, hi = 0.0; break;
+    }
+    out.scalars[0].values[2 * pair] = float(lo);
+    out.scalars[0].values[2 * pair + 1] = float(hi);
+    pair_listed_[pair] = update_count_ - 1; // written anew: listed whatever it was
+    set_points(lod, options, pair, out, changes);
+    return pair;
+}
+
+void LayerPrismTracker::release_pair(std::uint32_t sample) {
+    const std::uint32_t pair = sample_pair_[sample];
+    if (--pair_refs_[pair] > 0) return;
+    sample_pair_[sample] = kNoPair;
+    free_pairs_.push_back(pair);
+}
+
+void LayerPrismTracker::cell_changed(std::uint32_t cell, fx::MeshChanges& changes) {
+    if (cell_listed_.size() <= cell) cell_listed_.resize(std::max<std::size_t>(cell + 1, cell_listed_.size() * 3 / 2), 0u);
+    if (cell_listed_[cell] == update_count_) return;
+    cell_listed_[cell] = update_count_;
+    changes.cells.push_back(cell);
+}
+
+void LayerPrismTracker::add_fan(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t slot,
+                                fx::CellMesh& out, fx::MeshChanges& changes) {
+    const LodFan fan = lod.fan(slot);
+    std::uint8_t prisms = 0;
+    for (std::uint32_t k = 0; k < fan.count; ++k) {
+        const std::uint32_t ia = fan.center, ib = fan.ring[k], ic = fan.ring[(k + 1) % fan.count];
+        // build_layer_prisms' rule: thickness at the corners summing to more than a millionth
+        // of the longest edge (ContinuousLod lists the fans around a vertex whose thickness
+        // appears or vanishes, so a fan is looked at again when that can change).
+        const glm::dvec3 a = lod.vertex_position(ia), b = lod.vertex_position(ib), c = lod.vertex_position(ic);
+        const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        const double thickness =
+            double(lod.vertex_thickness(ia)) + double(lod.vertex_thickness(ib)) + double(lod.vertex_thickness(ic));
+        if (!(thickness > 1e-6 * longest)) continue;
+        const std::uint32_t pa = acquire_pair(lod, options, ia, out, changes); // each prism holds its three pairs
+        const std::uint32_t pb = acquire_pair(lod, options, ib, out, changes);
+        const std::uint32_t pc = acquire_pair(lod, options, ic, out, changes);
+        // LOD triangles wind counter-clockwise from above; VTK's base (0, 1, 2) must face down.
+        const std::uint32_t wedge[6] = {2 * pa, 2 * pc, 2 * pb, 2 * pa + 1, 2 * pc + 1, 2 * pb + 1};
+        const std::uint32_t cell = std::uint32_t(out.cell_count());
+        out.add_cell(fx::CellType::Wedge, wedge);
+        cell_owner_.push_back(8 * slot + prisms);
+        slot_cells_[slot][prisms++] = cell;
+        cell_changed(cell, changes);
+    }
+    slot_prisms_[slot] = prisms;
+}
+
+void LayerPrismTracker::remove_fan(std::uint32_t slot, fx::CellMesh& out, fx::MeshChanges& changes) {
+    // Largest cell first: the last cell, moved into a freed place, is never one still to remove.
+    std::array<std::uint32_t, 8> cells = slot_cells_[slot];
+    const std::uint8_t n = slot_prisms_[slot];
+    for (std::uint8_t i = 1; i < n; ++i) // at most 8: insertion sort, largest first
+        for (std::uint8_t j = i; j > 0 && cells[j - 1] < cells[j]; --j) std::swap(cells[j - 1], cells[j]);
+    for (std::uint8_t i = 0; i < n; ++i) {
+        const std::uint32_t x = cells[i];
+        const std::uint32_t* v = out.cell_vertices(x);
+        for (int k = 0; k < 3; ++k) release_pair(pair_sample_[v[k] / 2]);
+        const std::uint32_t last = std::uint32_t(out.cell_count() - 1);
+        if (x != last) {
+            std::copy_n(out.cell_vertices(last), 6, out.cell_vertices(x));
+            const std::uint32_t owner = cell_owner_[last];
+            cell_owner_[x] = owner;
+            slot_cells_[owner / 8][owner % 8] = x;
+            cell_changed(x, changes);
+        }
+        out.cell_types.pop_back();
+        out.cell_offsets.pop_back();
+        out.connectivity.resize(out.cell_offsets.back());
+        cell_owner_.pop_back();
+        --out.blocks[0].cell_count;
+    }
+    slot_prisms_[slot] = 0;
+}
+
+void LayerPrismTracker::build_whole(const ContinuousLod& lod, const LayerPrismOptions& options, fx::CellMesh& out,
+                                    fx::MeshChanges& changes) {
+    out.points.clear();
+    out.cell_types.clear();
+    out.cell_offsets.assign(1, 0u);
+    out.connectivity.clear();
+    out.scalars[0].values.clear();
+    out.blocks[0].cell_count = 0;
+    sample_pair_.assign(std::size_t(lod.ground().size) * std::size_t(lod.ground().size), kNoPair);
+    pair_sample_.clear(), pair_refs_.clear(), free_pairs_.clear(), pair_listed_.clear();
+    cell_owner_.clear();
+    const std::size_t fans = lod.fan_count();
+    slot_cells_.resize(fans);
+    slot_prisms_.assign(fans, 0);
+    for (std::uint32_t slot = 0; slot < fans; ++slot) add_fan(lod, options, slot, out, changes);
+    changes.whole = true;
+}
+
+bool LayerPrismTracker::update(const TerrainLod& lod, const LayerPrismOptions& options, fx::CellMesh& out,
+                               fx::MeshChanges& changes, LayerPrismStats* stats) {
+    const ContinuousLod& l = lod.lod();
+    if (!l.layer()) throw fx::Error("layer prisms: the LOD has no layer");
+    if (options.density == LayerDensity::Noise && !options.noise)
+        throw fx::Error("layer prisms: noise density needs a noise generator");
+    if (!std::isfinite(options.density_scale)) throw fx::Error("layer prisms: density scale is not finite");
+    if (built_ == &lod && version_ == lod.version()) return false;
+    // One field, one block named "layer".
+    out.scalars.resize(1);
+    if (out.scalars[0].name != options.scalar_name) out.scalars[0].name = options.scalar_name;
+    out.blocks.resize(1);
+    if (out.blocks[0].name != "layer") out.blocks[0].name = "layer";
+    out.blocks[0].first_cell = 0, out.blocks[0].dims = {0, 0, 0};
+    ++update_count_;
+    changes.oriented = true; // prisms on counter-clockwise triangles, grown upwards
+    const LodChanges& c = l.changes();
+    if (built_ != &lod || version_ + 1 != lod.version() || c.full || out.scalars[0].values.size() != out.points.size()) {
+        build_whole(l, options, out, changes);
+    } else {
+        const std::size_t fans = l.fan_count();
+        // Removed slots, then rewritten ones (old prisms out, new in), then moved vertices.
+        for (std::size_t slot = fans; slot < c.fans_before; ++slot) remove_fan(std::uint32_t(slot), out, changes);
+        for (std::uint32_t slot : c.fans)
+            if (slot < fans && slot < c.fans_before) remove_fan(slot, out, changes);
+        if (slot_cells_.size() < fans) {
+            slot_cells_.resize(fans);
+            slot_prisms_.resize(fans, 0);
+        }
+        for (std::uint32_t slot : c.fans)
+            if (slot < fans) add_fan(l, options, slot, out, changes);
+        for (std::uint32_t sample : c.vertices)
+            if (sample_pair_[sample] != kNoPair) set_points(l, options, sample_pair_[sample], out, changes);
+        // A cell listed, then moved away and removed in the same update is gone.
+        const std::size_t cells = out.cell_count();
+        changes.cells.erase(std::remove_if(changes.cells.begin(), changes.cells.end(),
+                                           [cells](std::uint32_t x) { return x >= cells; }),
+                            changes.cells.end());
+    }
+    built_ = &lod;
+    version_ = lod.version();
+    if (stats) {
+        stats->triangles = l.triangle_count();
+        stats->prisms = out.cell_count();
+        stats->empty = stats->triangles - std::min(stats->triangles, stats->prisms);
+        stats->culled = 0;
+        stats->points = 2 * (pair_sample_.size() - free_pairs_.size());
+    }
+    return true;
 }
 
 HeightField make_valley_fog_map(const HeightField& ground, double level, double max_thickness,

@@ -440,11 +440,15 @@ struct SceneRenderer::Impl {
         if (!s.renderer) {
             s.renderer.emplace(mesh, s.effect->scalar_name(), s.tf);
             if (parallel_for) s.renderer->set_parallel_for(parallel_for); // else cellfx's own pool (the default)
+            // The terrain's layers span far more than the view: only the prisms in view are drawn.
+            s.renderer->set_culling(s.kind == Kind::Fog || s.kind == Kind::Aurora);
         } else if (s.pending.mesh) {
-            s.renderer->set_mesh(mesh, s.effect->scalar_name());
+            // Only the points and cells that changed (all of them for effects that rebuild whole).
+            s.renderer->update_mesh(mesh, s.effect->scalar_name(), s.effect->mesh_changes());
         } else if (s.pending.scalars) {
             s.renderer->set_scalars(mesh.find_scalar(s.effect->scalar_name())->values);
         }
+        s.effect->clear_mesh_changes();
         s.pending = fx::EffectChanges{};
         s.stats.upload_ms = ms_since(t);
         stats.upload_ms += s.stats.upload_ms;
@@ -581,7 +585,7 @@ struct SceneRenderer::Impl {
                 if (host_depth != 0) depth.draw(host_depth, convention, camera, viewport, 0, 0);
                 if (draw_terrain) {
                     GpuTimer timer(surface_timer, timing);
-                    stats.surface = surface->draw(terrain->mesh(), camera, fx::Viewport{0, 0, width, height}, scene.surface);
+                    stats.surface = surface->draw(*terrain, camera, fx::Viewport{0, 0, width, height}, scene.surface);
                     stats.surface_gpu_ms = timer.stop();
                     if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.surface_gpu_ms;
                 }

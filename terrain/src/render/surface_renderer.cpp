@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -12,6 +13,7 @@
 #include "fx/error.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
+#include "gl/scatter_pass.hpp"
 #include "gl/state_guard.hpp"
 #include "render/terrain_shaders.hpp"
 
@@ -28,8 +30,12 @@ enum Uniform : GLint {
     kAmbient = 5,
     kStops = 6,
     kRamp = 8,
+    kSize = 16,
+    kFirstSample = 17,
+    kSpacing = 18,
 };
 constexpr int kMaxStops = 8;
+constexpr std::uint32_t kFanIndices = 24; // a fan slot's 8 triangles (unused ones collapsed to its centre)
 
 } // namespace
 
@@ -42,11 +48,71 @@ struct SurfaceRenderer::Impl {
     fx::gl::Texture gradients;
     fx::gl::Sampler sampler;
     fx::gl::VertexArray vao;
-    fx::gl::Buffer vertices, indices;
-    std::size_t vertex_capacity = 0, index_capacity = 0; // bytes
-    std::vector<glm::vec4> vertex_data;
+    // A height per sample (relative frame) and the triangles as sample ids: by fan slot (24 a
+    // slot) for a TerrainLod, listed for a LodMesh.
+    fx::gl::GrowingBuffer heights, indices;
+    std::vector<float> height_data;
     std::vector<std::uint32_t> index_data;
+    std::size_t index_count = 0;
+    fx::gl::ScatterPass height_scatter{1}, fan_scatter{kFanIndices};
+    // The TerrainLod whose version the buffers hold (nullptr: a LodMesh's, or nothing yet).
+    const TerrainLod* lod = nullptr;
+    std::uint64_t lod_version = 0;
+
+    float relative_height(float h) const { return float(double(h) - origin.z); }
+    void write_fan(const ContinuousLod& l, std::size_t slot, std::uint32_t* out) const {
+        const LodFan f = l.fan(slot);
+        for (std::uint32_t k = 0; k < 8; ++k) {
+            const bool used = k < f.count;
+            out[3 * k] = f.center;
+            out[3 * k + 1] = used ? f.ring[k] : f.center;
+            out[3 * k + 2] = used ? f.ring[(k + 1) % f.count] : f.center;
+        }
+    }
+    void upload_lod(const TerrainLod& lod, SurfaceStats& stats);
+    SurfaceStats draw_indices(const fx::Camera& camera, const fx::Viewport& viewport, const SurfaceStyle& style,
+                              SurfaceStats stats, std::chrono::steady_clock::time_point start);
 };
+
+void SurfaceRenderer::Impl::upload_lod(const TerrainLod& l, SurfaceStats& stats) {
+    const ContinuousLod& c = l.lod();
+    if (c.ground().size != size) throw fx::Error("terrain surface: the LOD is of another height field");
+    const LodChanges& changes = c.changes();
+    const std::size_t fans = c.fan_count();
+    if (lod == &l && lod_version == l.version()) return;
+    index_count = kFanIndices * fans;
+    if (lod == &l && lod_version + 1 == l.version() && !changes.full) {
+        // Only what the refinement changed: its vertices' heights and its fan slots.
+        height_scatter.clear();
+        for (std::uint32_t v : changes.vertices) {
+            const float h = relative_height(float(c.vertex_position(v).z));
+            std::memcpy(height_scatter.add(v, 1), &h, 4);
+        }
+        fan_scatter.clear();
+        for (std::uint32_t slot : changes.fans)
+            if (slot < fans) write_fan(c, slot, fan_scatter.add(kFanIndices * slot, kFanIndices));
+        indices.reserve(index_count * 4, indices.capacity());
+        glVertexArrayElementBuffer(vao.id(), indices.id());
+        height_scatter.run(heights.id());
+        fan_scatter.run(indices.id());
+        stats.vertices_uploaded = height_scatter.size();
+        stats.fans_uploaded = fan_scatter.size();
+    } else {
+        const std::size_t samples = std::size_t(size) * std::size_t(size);
+        height_data.resize(samples);
+        for (std::size_t s = 0; s < samples; ++s) height_data[s] = relative_height(float(c.vertex_position(std::uint32_t(s)).z));
+        index_data.resize(index_count);
+        for (std::size_t slot = 0; slot < fans; ++slot) write_fan(c, slot, &index_data[kFanIndices * slot]);
+        heights.upload(height_data.data(), samples * 4);
+        indices.upload(index_data.data(), index_count * 4);
+        glVertexArrayElementBuffer(vao.id(), indices.id());
+        stats.vertices_uploaded = samples;
+        stats.fans_uploaded = fans;
+        stats.whole = true;
+    }
+    lod = &l;
+    lod_version = l.version();
+}
 
 SurfaceRenderer::SurfaceRenderer(const HeightField& ground) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
@@ -95,48 +161,64 @@ SurfaceRenderer::SurfaceRenderer(SurfaceRenderer&&) noexcept = default;
 SurfaceRenderer& SurfaceRenderer::operator=(SurfaceRenderer&&) noexcept = default;
 
 std::size_t SurfaceRenderer::gpu_bytes() const {
-    return std::size_t(impl_->size) * std::size_t(impl_->size) * 8 + impl_->vertex_capacity + impl_->index_capacity;
+    return std::size_t(impl_->size) * std::size_t(impl_->size) * 8 + impl_->heights.capacity() + impl_->indices.capacity();
+}
+
+SurfaceStats SurfaceRenderer::draw(const TerrainLod& lod, const fx::Camera& camera, const fx::Viewport& viewport,
+                                   const SurfaceStyle& style) {
+    const auto start = std::chrono::steady_clock::now();
+    SurfaceStats stats;
+    stats.triangles = lod.lod().triangle_count();
+    impl_->upload_lod(lod, stats);
+    return impl_->draw_indices(camera, viewport, style, stats, start);
 }
 
 SurfaceStats SurfaceRenderer::draw(const LodMesh& mesh, const fx::Camera& camera, const fx::Viewport& viewport,
                                    const SurfaceStyle& style) {
-    if (viewport.width <= 0 || viewport.height <= 0) throw fx::Error("terrain surface: empty viewport");
-    if (style.ramp.empty() || style.ramp.size() > std::size_t(kMaxStops))
-        throw fx::Error("terrain surface: the colour ramp needs 1 to 8 stops");
     const auto start = std::chrono::steady_clock::now();
     Impl& m = *impl_;
     SurfaceStats stats;
     stats.triangles = mesh.triangles.size();
-    if (mesh.triangles.empty()) return stats;
-
-    m.vertex_data.resize(mesh.positions.size());
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) m.vertex_data[v] = glm::vec4(glm::vec3(mesh.positions[v] - m.origin), 0.0f);
-    m.index_data.resize(mesh.triangles.size() * 3);
+    // The mesh's vertices into the per-sample heights, its triangles as sample ids.
+    const std::size_t samples = std::size_t(m.size) * std::size_t(m.size);
+    m.height_data.resize(samples, 0.0f);
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        if (mesh.grid_index[v] >= samples) throw fx::Error("terrain surface: the mesh is of another height field");
+        m.height_data[mesh.grid_index[v]] = m.relative_height(float(mesh.positions[v].z));
+    }
+    m.index_data.resize(3 * mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) m.index_data[3 * t + k] = mesh.triangles[t][k];
-    auto upload = [](fx::gl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
-        if (bytes > capacity) {
-            capacity = std::max(bytes, capacity * 3 / 2);
-            buffer = fx::gl::make_buffer(GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
-        }
-        glNamedBufferSubData(buffer.id(), 0, GLsizeiptr(bytes), data);
-    };
-    upload(m.vertices, m.vertex_capacity, m.vertex_data.data(), m.vertex_data.size() * sizeof(glm::vec4));
-    upload(m.indices, m.index_capacity, m.index_data.data(), m.index_data.size() * sizeof(std::uint32_t));
+        for (int k = 0; k < 3; ++k) m.index_data[3 * t + k] = mesh.grid_index[mesh.triangles[t][k]];
+    m.heights.upload(m.height_data.data(), samples * 4);
+    m.indices.upload(m.index_data.data(), m.index_data.size() * 4);
     glVertexArrayElementBuffer(m.vao.id(), m.indices.id());
+    m.index_count = m.index_data.size();
+    m.lod = nullptr;
+    stats.vertices_uploaded = mesh.positions.size();
+    stats.whole = true;
+    return m.draw_indices(camera, viewport, style, stats, start);
+}
+
+SurfaceStats SurfaceRenderer::Impl::draw_indices(const fx::Camera& camera, const fx::Viewport& viewport,
+                                                 const SurfaceStyle& style, SurfaceStats stats,
+                                                 std::chrono::steady_clock::time_point start) {
+    if (viewport.width <= 0 || viewport.height <= 0) throw fx::Error("terrain surface: empty viewport");
+    if (style.ramp.empty() || style.ramp.size() > std::size_t(kMaxStops))
+        throw fx::Error("terrain surface: the colour ramp needs 1 to 8 stops");
+    if (index_count == 0) return stats;
 
     // View in the relative frame: translate the camera instead of the (large) coordinates.
     fx::Camera relative = camera;
-    relative.eye -= m.origin;
-    relative.target -= m.origin;
+    relative.eye -= origin;
+    relative.target -= origin;
     const double aspect = double(viewport.width) / double(viewport.height);
     const glm::mat4 vp(relative.projection_matrix(aspect) * relative.view_matrix());
-    const GLuint p = m.program.id();
+    const GLuint p = program.id();
     glProgramUniformMatrix4fv(p, kViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
-    glProgramUniform2f(p, kFieldOrigin, float(m.field_x0 - m.origin.x), float(m.field_y0 - m.origin.y));
-    glProgramUniform2f(p, kTexel, float(1.0 / m.spacing), float(1.0 / m.size));
-    const float range = std::max(m.highest - m.lowest, 1e-12f);
-    glProgramUniform2f(p, kHeightRange, float(m.lowest - m.origin.z), 1.0f / range);
+    glProgramUniform2f(p, kFieldOrigin, float(field_x0 - origin.x), float(field_y0 - origin.y));
+    glProgramUniform2f(p, kTexel, float(1.0 / spacing), float(1.0 / size));
+    const float range = std::max(highest - lowest, 1e-12f);
+    glProgramUniform2f(p, kHeightRange, float(lowest - origin.z), 1.0f / range);
     const glm::vec3 sun(glm::normalize(style.sun_direction));
     glProgramUniform3fv(p, kSun, 1, glm::value_ptr(sun));
     glProgramUniform1f(p, kAmbient, float(style.ambient));
@@ -145,6 +227,9 @@ SurfaceStats SurfaceRenderer::draw(const LodMesh& mesh, const fx::Camera& camera
         const auto& [f, c] = style.ramp[k];
         glProgramUniform4f(p, kRamp + GLint(k), float(f), float(c.r), float(c.g), float(c.b));
     }
+    glProgramUniform1i(p, kSize, size);
+    glProgramUniform2f(p, kFirstSample, float(field_x0 - origin.x), float(field_y0 - origin.y));
+    glProgramUniform1f(p, kSpacing, float(spacing));
 
     {
         fx::gl::StateGuard guard;
@@ -154,11 +239,11 @@ SurfaceStats SurfaceRenderer::draw(const LodMesh& mesh, const fx::Camera& camera
         glDepthFunc(GL_LESS);
         glDepthMask(GL_TRUE);
         glUseProgram(p);
-        glBindVertexArray(m.vao.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.vertices.id());
-        glBindTextureUnit(0, m.gradients.id());
-        glBindSampler(0, m.sampler.id());
-        glDrawElements(GL_TRIANGLES, GLsizei(m.index_data.size()), GL_UNSIGNED_INT, nullptr);
+        glBindVertexArray(vao.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, heights.id());
+        glBindTextureUnit(0, gradients.id());
+        glBindSampler(0, sampler.id());
+        glDrawElements(GL_TRIANGLES, GLsizei(index_count), GL_UNSIGNED_INT, nullptr);
         FX_GL_CHECK("terrain surface draw");
     }
     stats.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

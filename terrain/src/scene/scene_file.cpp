@@ -604,6 +604,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         if (!(scene.lod.min_resolution > 1.0)) throw l.error("min_resolution", "must be greater than 1");
         scene.triangle_budget = std::size_t(l.integer("triangle_budget", 0, 0, 1L << 40));
         scene.lod.geomorph = l.boolean("geomorph", true);
+        scene.lod.morph_steps = int(l.integer("morph_steps", scene.lod.morph_steps, 0, 4096));
         l.finish();
     }
     if (root.has("fog")) {
