@@ -17,7 +17,7 @@
 
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
-#include "noise/noise_batch.hpp"
+#include "noise/noise_lanes.hpp"
 #include "noise/noise_fractal.hpp"
 #include "noise/noise_kernels.hpp"
 #include "cellfx_names.hpp"
@@ -696,18 +696,18 @@ void check_batch_equals_scalar() {
 } // namespace
 
 TEST_CASE("batch fills give exactly the scalar values, with every instruction set's kernels", "[noise]") {
-    using fx::noise_detail::BatchIsa;
+    using fx::noise_detail::NoiseIsa;
     int checked = 0;
-    for (BatchIsa isa : {BatchIsa::baseline, BatchIsa::avx2}) {
-        if (!fx::noise_detail::batch_isa_supported(isa)) continue;
-        fx::noise_detail::set_batch_isa(isa);
-        const std::string name = fx::noise_detail::batch_kernels().name;
+    for (NoiseIsa isa : {NoiseIsa::baseline, NoiseIsa::avx2}) {
+        if (!fx::noise_detail::noise_isa_supported(isa)) continue;
+        fx::noise_detail::set_noise_isa(isa);
+        const std::string name = fx::noise_detail::lane_kernels().name;
         INFO("kernels: " << name);
-        CHECK(name == (isa == BatchIsa::baseline ? "baseline" : "avx2"));
+        CHECK(name == (isa == NoiseIsa::baseline ? "baseline" : "avx2"));
         check_batch_equals_scalar();
         ++checked;
     }
-    fx::noise_detail::set_batch_isa(BatchIsa::automatic);
+    fx::noise_detail::set_noise_isa(NoiseIsa::automatic);
     CHECK(checked >= 1);
     if (checked == 1) WARN("this CPU runs only the baseline kernels; the AVX2 ones were not checked");
 }

@@ -1,6 +1,5 @@
-// cellfx — batch noise kernels: fill grids and point lists kLanes samples at a time. Included
-// once per instruction set (noise_batch_baseline.cpp, noise_batch_avx2.cpp) with FX_NOISE_ISA,
-// FX_NOISE_LANES and FX_NOISE_BATCH_KERNELS set; see noise_batch.hpp.
+// cellfx — batch noise kernels: fill grids and point lists kLanes samples at a time. Compiled
+// once per instruction set through noise_lanes_impl.hpp; see noise_lanes.hpp.
 //
 // Based on: the kernels of noise_kernels.hpp (Perlin 2002, Gustavson 2005) run on vector lanes.
 // Work goes in blocks of kBlock samples that stay in L1: for each octave the block's coordinates
@@ -12,7 +11,7 @@
 // containers and algorithms, glm): the linker could keep this build's copy for everyone.
 #define FX_NOISE_BATCH 1 // the double vector lanes of noise_kernels.hpp
 
-#include "noise_batch.hpp"
+#include "noise_lanes.hpp"
 
 namespace cellfx::fx::noise_detail {
 inline namespace FX_NOISE_ISA {
@@ -201,13 +200,5 @@ void fill_points(const FractalPlan& plan, const double* coords, std::size_t stri
 
 } // namespace
 } // namespace FX_NOISE_ISA
-
-const BatchKernels& FX_NOISE_BATCH_KERNELS() {
-#define FX_NOISE_STRING2(x) #x
-#define FX_NOISE_STRING(x) FX_NOISE_STRING2(x)
-    static const BatchKernels kernels = {FX_NOISE_STRING(FX_NOISE_ISA), &fill_grid<2>,   &fill_grid<3>,  &fill_grid<4>,
-                                         &fill_points<2>,               &fill_points<3>, &fill_points<4>};
-    return kernels;
-}
 
 } // namespace cellfx::fx::noise_detail

@@ -1,4 +1,4 @@
-// cellfx — pieces shared by the scalar (noise.cpp) and batch (noise_batch*.cpp) evaluation:
+// cellfx — pieces shared by the scalar (noise.cpp) and lane (noise_lanes_impl.hpp) evaluation:
 // the validated fractal plan, one scalar sample of each basis, and the octave arithmetic.
 // Both must go through these so that a batch gives the scalar result bit for bit.
 //

@@ -23,7 +23,7 @@
 #include <cstdint>
 #include <cstring>
 
-// The batch is compiled once per instruction set (noise_batch_impl.hpp); each build puts every
+// The lane kernels are compiled once per instruction set (noise_lanes_impl.hpp); each build puts every
 // inline function of these headers in its own namespace, so the linker can never hand an AVX2
 // copy of one to the baseline code.
 #ifndef FX_NOISE_ISA
