@@ -23,9 +23,45 @@ const LaneKernels& kernels_for(NoiseIsa isa) {
     return kBaselineLaneKernels;
 }
 
+// The first call of any kernel lands here, makes the choice and forwards.
+const LaneKernels kResolvingLaneKernels = {
+    "unresolved",
+    [](std::uint32_t key, double x, double y) noexcept { return resolve_lane_kernels().perlin2(key, x, y); },
+    [](std::uint32_t key, double x, double y, double z) noexcept {
+        return resolve_lane_kernels().perlin3(key, x, y, z);
+    },
+    [](const Fractal& fractal, std::uint32_t seed, double x, double y) noexcept {
+        return resolve_lane_kernels().fractal2(fractal, seed, x, y);
+    },
+    [](const Fractal& fractal, std::uint32_t seed, double x, double y, double z) noexcept {
+        return resolve_lane_kernels().fractal3(fractal, seed, x, y, z);
+    },
+    [](const Fractal& fractal, std::uint32_t seed, double x, double y, double z, double w) noexcept {
+        return resolve_lane_kernels().fractal4(fractal, seed, x, y, z, w);
+    },
+    [](const FractalPlan& plan, const GridSpec<2>& grid, const GridScratch<2>& scratch, float* out) {
+        resolve_lane_kernels().fill_grid2(plan, grid, scratch, out);
+    },
+    [](const FractalPlan& plan, const GridSpec<3>& grid, const GridScratch<3>& scratch, float* out) {
+        resolve_lane_kernels().fill_grid3(plan, grid, scratch, out);
+    },
+    [](const FractalPlan& plan, const GridSpec<4>& grid, const GridScratch<4>& scratch, float* out) {
+        resolve_lane_kernels().fill_grid4(plan, grid, scratch, out);
+    },
+    [](const FractalPlan& plan, const double* coords, std::size_t stride, std::size_t count, float* out) {
+        resolve_lane_kernels().fill_points2(plan, coords, stride, count, out);
+    },
+    [](const FractalPlan& plan, const double* coords, std::size_t stride, std::size_t count, float* out) {
+        resolve_lane_kernels().fill_points3(plan, coords, stride, count, out);
+    },
+    [](const FractalPlan& plan, const double* coords, std::size_t stride, std::size_t count, float* out) {
+        resolve_lane_kernels().fill_points4(plan, coords, stride, count, out);
+    },
+};
+
 } // namespace
 
-std::atomic<const LaneKernels*> g_lane_kernels{nullptr};
+std::atomic<const LaneKernels*> g_lane_kernels{&kResolvingLaneKernels};
 
 bool noise_isa_supported(NoiseIsa isa) {
     switch (isa) {
@@ -48,8 +84,10 @@ void set_noise_isa(NoiseIsa isa) {
 }
 
 // Threads that race here all store the same choice (unless set_noise_isa runs at the same time,
-// which only tests do).
+// which only tests do). Later calls return the stored choice.
 const LaneKernels& resolve_lane_kernels() {
+    const LaneKernels* current = g_lane_kernels.load();
+    if (current != &kResolvingLaneKernels) return *current;
     const LaneKernels& chosen = kernels_for(static_cast<NoiseIsa>(g_requested_isa.load()));
     g_lane_kernels.store(&chosen);
     return chosen;

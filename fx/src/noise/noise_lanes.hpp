@@ -41,9 +41,15 @@ template <int N> struct GridScratch {
 };
 
 // The kernels of one instruction set. fill_points reads `count` points of N doubles, point i at
-// coords + i·stride.
+// coords + i·stride. perlinN take the octave key (mix_seed) and give perlinN_at's value;
+// fractalN take settings that passed check_fractal and give fractalN_at's value for their plan.
 struct LaneKernels {
     const char* name;
+    float (*perlin2)(std::uint32_t key, double x, double y) noexcept; // (noexcept: tail calls)
+    float (*perlin3)(std::uint32_t key, double x, double y, double z) noexcept;
+    float (*fractal2)(const Fractal&, std::uint32_t seed, double x, double y) noexcept;
+    float (*fractal3)(const Fractal&, std::uint32_t seed, double x, double y, double z) noexcept;
+    float (*fractal4)(const Fractal&, std::uint32_t seed, double x, double y, double z, double w) noexcept;
     void (*fill_grid2)(const FractalPlan&, const GridSpec<2>&, const GridScratch<2>&, float* out);
     void (*fill_grid3)(const FractalPlan&, const GridSpec<3>&, const GridScratch<3>&, float* out);
     void (*fill_grid4)(const FractalPlan&, const GridSpec<4>&, const GridScratch<4>&, float* out);
@@ -62,15 +68,16 @@ bool noise_isa_supported(NoiseIsa isa); // compiled in and, for AVX2, the CPU ha
 // For tests and benchmarks; an unsupported choice falls back to baseline.
 void set_noise_isa(NoiseIsa isa);
 
-// The chosen kernels: null until the first use resolves them (resolve_lane_kernels), so that
-// one sample costs a load and an indirect call, not a CPU query.
+// The kernels in use. Until the first use it points at a table whose functions make the
+// choice (resolve_lane_kernels) and then call the chosen one, so that one sample costs a load and
+// an indirect jump, with no test and no CPU query. (Its name is "unresolved": call
+// resolve_lane_kernels() to read the chosen name.)
 extern std::atomic<const LaneKernels*> g_lane_kernels;
 const LaneKernels& resolve_lane_kernels();
 
 inline namespace FX_NOISE_ISA {
 inline const LaneKernels& lane_kernels() {
-    const LaneKernels* chosen = g_lane_kernels.load(std::memory_order_relaxed);
-    return chosen != nullptr ? *chosen : resolve_lane_kernels();
+    return *g_lane_kernels.load(std::memory_order_relaxed);
 }
 } // namespace FX_NOISE_ISA
 
