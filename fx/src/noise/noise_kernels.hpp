@@ -269,6 +269,17 @@ template <class F, class U> inline F grad3(U hashed, F x, F y, F z) {
     const F v = select(mask_eq(h & 12u, splat_u(h, 0u)), y, select(mask_eq(h & 13u, splat_u(h, 12u)), x, z));
     return flip(u, hashed, 28) + flip(v, hashed, 29);
 }
+#if FX_NOISE_X86_BLEND
+// The same choice with blends on hash bits, fewer instructions where a blend reads one bit
+// (b31..b28 = h): v is z where b31 ≠ b30 (4 ≤ h < 12), else y where b31 is clear (h < 4), else
+// x or z by b28 (12, 14 or 13, 15).
+inline VecF grad3(VecU hashed, VecF x, VecF y, VecF z) {
+    const VecU b28 = hashed << 3;
+    const VecF u = select(hashed, y, x);
+    const VecF v = select(hashed ^ (hashed << 1), z, select(hashed, select(b28, z, x), y));
+    return as_f(as_u(u) ^ (b28 & 0x80000000u)) + flip(v, hashed, 29);
+}
+#endif
 
 // 4-D: the 32 gradients with one zero and three ±1 components (length √3); h = 6 hash bits,
 // bits 0–3 the signs, bits 4–5 the zero component; each gradient twice.
