@@ -2,18 +2,19 @@
 // fractal2/3/4. Compiled once per instruction set through noise_lanes_impl.hpp, after
 // noise_batch_impl.hpp (whose lane helpers it uses).
 //
-// Based on: the kernels of noise_kernels.hpp (Perlin 2002, Gustavson 2005); the lanes are the
-// cell's corners (Perlin) or the fractal's octaves instead of samples. A game calls the noise one
-// sample at a time from its own code, so the lanes have to come from inside the sample:
-// - fractal sums put octaves in lanes: octave o's coordinates, key and amplitude are lane o of
-//   vectors loaded straight from the FractalPlan, every lane runs the basis kernel, and the
-//   weighted octaves are added in octave order as the scalar sum does;
-// - perlin2 / perlin3 on AVX2 put the corners in lanes (4 in an SSE register, 8 in an AVX one):
-//   one hash multiply, one gradient choice and one dot product for all of them, then the lerps
-//   pair the lanes in the order of the one-lane kernel. Built without AVX2, the one-lane kernel
-//   is used.
+// Based on: the kernels of noise_kernels.hpp (Perlin 2002, Gustavson 2005), with the cell's
+// corners or the fractal's octaves in the lanes instead of samples: a game calls the noise one
+// sample at a time from its own code, so the lanes have to come from inside the sample.
+// - AVX2: perlin2 puts the cell's 4 corners in an SSE register, perlin3 its 8 corners in an AVX
+//   one: one hash multiply, one gradient choice and one dot product for all of them, then lerps
+//   that pair the lanes as the one-lane kernel pairs its values. Perlin fractals run octave by
+//   octave on these (2-D: two octaves per AVX register).
+// - Other fractals (and every fractal without AVX2) put octaves in lanes: octave o's
+//   coordinates, key and amplitude in lane o, the basis kernel on every lane, then the weighted
+//   octaves added in octave order, as the one-lane sum adds them.
+// - Without AVX2, perlin2/3 are the one-lane kernels.
 // Each lane does exactly the IEEE operations of the one-lane kernels, so every path returns the
-// same bits (tests/test_noise.cpp checks each instruction set against them).
+// same bits (tests/test_noise.cpp checks each instruction set against noise.cpp's definitions).
 #if defined(__AVX2__)
 #include <immintrin.h>
 #endif
