@@ -17,7 +17,7 @@
 
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
-#include "noise/noise_batch.hpp"
+#include "noise/noise_lanes.hpp"
 #include "noise/noise_fractal.hpp"
 #include "noise/noise_kernels.hpp"
 #include "cellfx_names.hpp"
@@ -559,6 +559,47 @@ TEST_CASE("Perlin's lattice repeats every 2^32 cells, and huge and non-finite co
         }
 }
 
+TEST_CASE("NaN, infinite and huge coordinates give the documented values", "[noise]") {
+    // docs/noise.md, "Far from the origin": each coordinate (times the octave's frequency) is
+    // clamped to ±2⁴⁸, and NaN counts as −2⁴⁸, so these are the values at ±2⁴⁸ exactly, bit for
+    // bit, in every basis and on every axis, whatever the other coordinates are.
+    const double big = 281474976710656.0; // 2⁴⁸
+    const fx::Noise noise(12);
+    std::mt19937_64 rng(23);
+    for (const Basis& b : all_bases())
+        for (int axis = 0; axis < b.dim; ++axis)
+            for (int i = 0; i < 50; ++i) {
+                double p[4];
+                random_point(rng, -1e7, 1e7, p);
+                const auto at = [&](double x) {
+                    double q[4] = {p[0], p[1], p[2], p[3]};
+                    q[axis] = x;
+                    return bits(b.eval(noise, q));
+                };
+                INFO(b.name << " axis " << axis);
+                CHECK(at(NAN) == at(-big));
+                CHECK(at(-NAN) == at(-big));
+                CHECK(at(INFINITY) == at(big));
+                CHECK(at(-INFINITY) == at(-big));
+                CHECK(at(1e300) == at(big));
+                CHECK(at(-5e15) == at(-big));
+                CHECK(at(std::nextafter(big, 0.0)) != at(big)); // just inside, the cell and offset differ
+            }
+    // Fractals clamp each octave's coordinate: NaN gives the same value every time, finite and in range.
+    fx::Fractal f;
+    f.octaves = 5;
+    f.frequency = 0.01;
+    for (fx::NoiseBasis basis : {fx::NoiseBasis::perlin, fx::NoiseBasis::simplex}) {
+        f.basis = basis;
+        for (double x : {double(NAN), double(INFINITY), -double(INFINITY), 1e300}) {
+            const float v = noise.fractal3(f, x, 0.5, -0.5);
+            CHECK(std::isfinite(v));
+            CHECK(std::fabs(v) <= 1.0f);
+            CHECK(bits(v) == bits(noise.fractal3(f, x, 0.5, -0.5)));
+        }
+    }
+}
+
 TEST_CASE("noise is deterministic per seed and different seeds give unrelated fields", "[noise]") {
     for (const Basis& b : all_bases()) {
         std::mt19937_64 rng(21);
@@ -629,7 +670,8 @@ void check_batch_equals_scalar() {
                     scalar.push_back(noise.fractal2(f, g2.origin.x + g2.step.x * double(i), g2.origin.y + g2.step.y * double(j)));
             CHECK(count_bit_differences(batch, scalar) == 0);
 
-            const fx::Grid3 g3{{far - 2.5, 0.75, far}, {0.31, 0.29, -1.7}, 67, 5, 3};
+            // z starts at −0.0 when far is 0 (−0 + −1.7·0 is −0): a −0 offset broadcast to the lanes
+            const fx::Grid3 g3{{far - 2.5, 0.75, -far}, {0.31, 0.29, -1.7}, 67, 5, 3};
             batch.assign(g3.nx * g3.ny * g3.nz, 0.0f);
             scalar.clear();
             fx::fill_grid3(noise, f, g3, batch.data());
@@ -690,24 +732,94 @@ void check_batch_equals_scalar() {
             CHECK(count_bit_differences(b3, s3) == 0);
             CHECK(count_bit_differences(b4, s4) == 0);
         }
+        // Lattice points from −0.0 down (−0 + −1·0 is −0): the values are zeros whose signs
+        // follow every offset's sign, those of the y, z, w axes broadcast to the lanes included.
+        const fx::Grid4 lattice{{-0.0, -0.0, -0.0, -0.0}, {-1.0, -1.0, -1.0, -1.0}, 5, 3, 3, 2};
+        std::vector<float> batch(lattice.nx * lattice.ny * lattice.nz * lattice.nw), scalar;
+        fx::fill_grid4(noise, f, lattice, batch.data());
+        for (std::size_t l = 0; l < lattice.nw; ++l)
+            for (std::size_t k = 0; k < lattice.nz; ++k)
+                for (std::size_t j = 0; j < lattice.ny; ++j)
+                    for (std::size_t i = 0; i < lattice.nx; ++i)
+                        scalar.push_back(noise.fractal4(f, -0.0 - double(i), -0.0 - double(j), -0.0 - double(k), -0.0 - double(l)));
+        CHECK(count_bit_differences(batch, scalar) == 0);
+        batch.resize(lattice.nx * lattice.ny * lattice.nz);
+        scalar.clear();
+        fx::fill_grid3(noise, f, {{-0.0, -0.0, -0.0}, {-1.0, -1.0, -1.0}, lattice.nx, lattice.ny, lattice.nz}, batch.data());
+        for (std::size_t k = 0; k < lattice.nz; ++k)
+            for (std::size_t j = 0; j < lattice.ny; ++j)
+                for (std::size_t i = 0; i < lattice.nx; ++i)
+                    scalar.push_back(noise.fractal3(f, -0.0 - double(i), -0.0 - double(j), -0.0 - double(k)));
+        CHECK(count_bit_differences(batch, scalar) == 0);
     }
+}
+
+// The chosen lane kernels' one-sample functions (fx::Noise::perlin2/3, fractal2/3/4) against
+// the one-lane definitions (perlin2_at, fractal2_at, ...), bit for bit: random points near the
+// origin and far from it, signed zeros, lattice points, points just below a lattice plane, huge
+// and non-finite coordinates; fractals of 1 to 16 octaves (whole and partial vectors of octaves).
+void check_samples_equal_one_lane() {
+    using namespace fx::noise_detail;
+    const std::uint32_t seed = 77;
+    const fx::Noise noise(seed);
+    const std::uint32_t key = mix_seed(seed, 0);
+    std::vector<std::array<double, 4>> points;
+    std::mt19937_64 rng(8);
+    for (double far : {0.0, 1e7, -3.7e6})
+        for (int i = 0; i < 3000; ++i) {
+            std::array<double, 4> p;
+            random_point(rng, far - 40.0, far + 40.0, p.data());
+            points.push_back(p);
+        }
+    const double special[] = {-0.0, 0.0, -1e-20, 2.0, -3.0, 1.0 - 1e-17, -1e-300, 1e7 - 1e-9, 1e15, -1e300, INFINITY, -INFINITY, NAN};
+    for (double a : special)
+        for (double b : special) points.push_back({a, b, -a, 0.5 * b});
+    std::size_t differ = 0;
+    for (const auto& p : points) {
+        differ += bits(noise.perlin2(p[0], p[1])) != bits(perlin2_at(key, p[0], p[1]));
+        differ += bits(noise.perlin3(p[0], p[1], p[2])) != bits(perlin3_at(key, p[0], p[1], p[2]));
+    }
+    CHECK(differ == 0);
+
+    for (fx::NoiseBasis basis : {fx::NoiseBasis::perlin, fx::NoiseBasis::simplex})
+        for (fx::FractalType type : {fx::FractalType::fbm, fx::FractalType::ridged, fx::FractalType::turbulence})
+            for (int octaves : {1, 2, 4, 5, 9, 16}) {
+                fx::Fractal f;
+                f.basis = basis;
+                f.type = type;
+                f.octaves = octaves;
+                f.frequency = octaves == 1 ? 1.0 : 0.37;
+                f.lacunarity = 2.13;
+                f.gain = 0.6f;
+                const FractalPlan plan = make_plan(f, seed);
+                differ = 0;
+                for (std::size_t i = 0; i < points.size(); i += octaves > 4 ? 7 : 1) {
+                    const auto& p = points[i];
+                    differ += bits(noise.fractal2(f, p[0], p[1])) != bits(fractal2_at(plan, p[0], p[1]));
+                    differ += bits(noise.fractal3(f, p[0], p[1], p[2])) != bits(fractal3_at(plan, p[0], p[1], p[2]));
+                    differ += bits(noise.fractal4(f, p[0], p[1], p[2], p[3])) != bits(fractal4_at(plan, p[0], p[1], p[2], p[3]));
+                }
+                INFO("basis " << int(basis) << " type " << int(type) << " octaves " << octaves);
+                CHECK(differ == 0);
+            }
 }
 
 } // namespace
 
-TEST_CASE("batch fills give exactly the scalar values, with every instruction set's kernels", "[noise]") {
-    using fx::noise_detail::BatchIsa;
+TEST_CASE("every instruction set's kernels give the one-lane values exactly, one sample at a time and in batch", "[noise]") {
+    using fx::noise_detail::NoiseIsa;
     int checked = 0;
-    for (BatchIsa isa : {BatchIsa::baseline, BatchIsa::avx2}) {
-        if (!fx::noise_detail::batch_isa_supported(isa)) continue;
-        fx::noise_detail::set_batch_isa(isa);
-        const std::string name = fx::noise_detail::batch_kernels().name;
+    for (NoiseIsa isa : {NoiseIsa::baseline, NoiseIsa::avx2}) {
+        if (!fx::noise_detail::noise_isa_supported(isa)) continue;
+        fx::noise_detail::set_noise_isa(isa);
+        const std::string name = fx::noise_detail::lane_kernels().name;
         INFO("kernels: " << name);
-        CHECK(name == (isa == BatchIsa::baseline ? "baseline" : "avx2"));
+        CHECK(name == (isa == NoiseIsa::baseline ? "baseline" : "avx2"));
+        check_samples_equal_one_lane();
         check_batch_equals_scalar();
         ++checked;
     }
-    fx::noise_detail::set_batch_isa(BatchIsa::automatic);
+    fx::noise_detail::set_noise_isa(NoiseIsa::automatic);
     CHECK(checked >= 1);
     if (checked == 1) WARN("this CPU runs only the baseline kernels; the AVX2 ones were not checked");
 }

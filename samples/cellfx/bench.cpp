@@ -37,7 +37,9 @@ int run_bench(const std::vector<std::string>& args) {
                   "  accuracy   every path and flavour against the 4x4 scan-line reference: ms per frame, RMSE, max, PSNR;\n"
                   "             writes CSV, Markdown and a plot; options: --out DIR (out/accuracy), --frames N (5),\n"
                   "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside, --fem-cells N (1000000),\n"
-                  "             --blunt-fin DIR, --images (every flavour's frame as PNG)");
+                  "             --blunt-fin DIR, --images (every flavour's frame as PNG)\n"
+                  "  noise      fx::Noise, one call per sample and batch fills, per instruction set: M samples/s;\n"
+                  "             options: --rounds N (9), --size N (64: 64^3 samples), --isa all|avx2|baseline");
         return args.empty() ? 2 : 0;
     }
     const std::vector<std::string> rest(args.begin() + 1, args.end());
@@ -49,8 +51,9 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "effects") return bench_effects(rest);
     if (args[0] == "accuracy") return bench_accuracy(rest);
     if (args[0] == "render") return bench_render(rest);
+    if (args[0] == "noise") return bench_noise(rest);
     throw fx::Error("unknown benchmark '" + args[0] +
-                    "' (expected scanline, pcp, sort, terrain, absorption, effects, accuracy or render)");
+                    "' (expected scanline, pcp, sort, terrain, absorption, effects, accuracy, render or noise)");
 }
 
 } // namespace cellfx_cli

@@ -36,4 +36,7 @@ int bench_render(const std::vector<std::string>& args);
 // `cellfx bench sort`: the visibility sorts on ~1M tetrahedra (Max, Williams & Silva §III).
 int bench_sort(const std::vector<std::string>& args);
 
+// `cellfx bench noise`: fx::Noise one call per sample and in batch fills, per instruction set.
+int bench_noise(const std::vector<std::string>& args);
+
 } // namespace cellfx_cli

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "fx/error.hpp"
-#include "noise_fractal.hpp"
+#include "noise_lanes.hpp"
 
 namespace cellfx::fx {
 namespace noise_detail {
@@ -36,32 +36,33 @@ float evaluate(NoiseBasis basis, std::uint32_t key, double x, double y, double z
 template <class... D> float fractal_sum(const FractalPlan& plan, D... coordinates) {
     float sum = 0.0f;
     for (int o = 0; o < plan.octaves; ++o) {
-        const float n = evaluate(plan.basis, plan.key[o], octave_coordinate(coordinates, plan, o)...);
+        const float n = evaluate(plan.basis, mix_seed(plan.seed, o), octave_coordinate(coordinates, plan, o)...);
         sum = accumulate(o, sum, shape(plan.type, n), plan.amplitude[o]);
     }
     return finish(sum);
 }
 
-// The last octave's frequency, computed as make_plan does (inf when it overflows).
+// The last octave's frequency, computed as OctaveWalk does (inf when it overflows).
 double last_frequency(const Fractal& fractal) {
     double f = fractal.frequency;
     for (int o = 1; o < fractal.octaves && o < kMaxOctaves; ++o) f *= fractal.lacunarity;
     return f;
 }
 
+// What check_fractal accepts, without building any message.
+bool fractal_valid(const Fractal& fractal) {
+    return (fractal.basis == NoiseBasis::perlin || fractal.basis == NoiseBasis::simplex) &&
+           (fractal.type == FractalType::fbm || fractal.type == FractalType::ridged ||
+            fractal.type == FractalType::turbulence) &&
+           fractal.octaves >= 1 && fractal.octaves <= kMaxOctaves && std::isfinite(fractal.frequency) &&
+           fractal.frequency > 0.0 && std::isfinite(fractal.lacunarity) && fractal.lacunarity > 0.0 &&
+           std::isfinite(fractal.gain) && fractal.gain > 0.0f && std::isfinite(last_frequency(fractal));
+}
+
 } // namespace
 
 void check_fractal(const Fractal& fractal, const char* where, const char* name) {
-    if (fractal.basis == NoiseBasis::perlin || fractal.basis == NoiseBasis::simplex) {
-        if (fractal.type == FractalType::fbm || fractal.type == FractalType::ridged ||
-            fractal.type == FractalType::turbulence) {
-            if (fractal.octaves >= 1 && fractal.octaves <= kMaxOctaves && std::isfinite(fractal.frequency) &&
-                fractal.frequency > 0.0 && std::isfinite(fractal.lacunarity) && fractal.lacunarity > 0.0 &&
-                std::isfinite(fractal.gain) && fractal.gain > 0.0f &&
-                std::isfinite(last_frequency(fractal)))
-                return; // the common case builds no strings
-        }
-    }
+    if (fractal_valid(fractal)) return; // builds no strings
     const std::string at = std::string(where) + name + ".";
     if (fractal.basis != NoiseBasis::perlin && fractal.basis != NoiseBasis::simplex)
         throw Error(at + "basis: unknown value " + std::to_string(static_cast<int>(fractal.basis)));
@@ -90,21 +91,11 @@ FractalPlan make_plan(const Fractal& fractal, std::uint32_t seed) {
     plan.basis = fractal.basis;
     plan.type = fractal.type;
     plan.octaves = fractal.octaves;
-    // Bounding as FastNoise Lite: the amplitudes 1, g, g², ... scaled to sum to 1, in float.
-    float total = 1.0f, a = fractal.gain;
-    for (int o = 1; o < fractal.octaves; ++o) {
-        total += a;
-        a *= fractal.gain;
-    }
-    float amplitude = 1.0f / total;
-    double frequency = fractal.frequency;
-    for (int o = 0; o < fractal.octaves; ++o) {
-        plan.frequency[o] = frequency;
-        plan.offset[o] = static_cast<double>(o) * kOctaveOffset;
-        plan.amplitude[o] = amplitude;
-        plan.key[o] = mix_seed(seed, o);
-        frequency *= fractal.lacunarity;
-        amplitude *= fractal.gain;
+    plan.seed = seed;
+    OctaveWalk walk(fractal);
+    for (int o = 0; o < fractal.octaves; ++o, walk.next()) {
+        plan.frequency[o] = walk.frequency;
+        plan.amplitude[o] = walk.amplitude;
     }
     return plan;
 }
@@ -138,14 +129,20 @@ float simplex4_at(std::uint32_t key, double x, double y, double z, double w) {
     return simplex4<F1, U1>(key, simplex_sample<4, D1>(p, kF4, kG4));
 }
 
+float fractal2_at(const FractalPlan& plan, double x, double y) { return fractal_sum(plan, x, y); }
+float fractal3_at(const FractalPlan& plan, double x, double y, double z) { return fractal_sum(plan, x, y, z); }
+float fractal4_at(const FractalPlan& plan, double x, double y, double z, double w) {
+    return fractal_sum(plan, x, y, z, w);
+}
+
 } // namespace noise_detail
 
 using namespace noise_detail;
 
 Noise::Noise(std::uint32_t seed) noexcept : seed_(seed), key_(mix_seed(seed, 0)) {}
 
-float Noise::perlin2(double x, double y) const noexcept { return perlin2_at(key_, x, y); }
-float Noise::perlin3(double x, double y, double z) const noexcept { return perlin3_at(key_, x, y, z); }
+float Noise::perlin2(double x, double y) const noexcept { return lane_kernels().perlin2(key_, x, y); }
+float Noise::perlin3(double x, double y, double z) const noexcept { return lane_kernels().perlin3(key_, x, y, z); }
 float Noise::perlin4(double x, double y, double z, double w) const noexcept { return perlin4_at(key_, x, y, z, w); }
 float Noise::simplex2(double x, double y) const noexcept { return simplex2_at(key_, x, y); }
 float Noise::simplex3(double x, double y, double z) const noexcept { return simplex3_at(key_, x, y, z); }
@@ -154,16 +151,16 @@ float Noise::simplex4(double x, double y, double z, double w) const noexcept {
 }
 
 float Noise::fractal2(const Fractal& fractal, double x, double y) const {
-    check_fractal(fractal, "fx::Noise::fractal2: ", "Fractal");
-    return fractal_sum(make_plan(fractal, seed_), x, y);
+    if (!fractal_valid(fractal)) check_fractal(fractal, "fx::Noise::fractal2: ", "Fractal"); // throws
+    return lane_kernels().fractal2(fractal, seed_, x, y);
 }
 float Noise::fractal3(const Fractal& fractal, double x, double y, double z) const {
-    check_fractal(fractal, "fx::Noise::fractal3: ", "Fractal");
-    return fractal_sum(make_plan(fractal, seed_), x, y, z);
+    if (!fractal_valid(fractal)) check_fractal(fractal, "fx::Noise::fractal3: ", "Fractal"); // throws
+    return lane_kernels().fractal3(fractal, seed_, x, y, z);
 }
 float Noise::fractal4(const Fractal& fractal, double x, double y, double z, double w) const {
-    check_fractal(fractal, "fx::Noise::fractal4: ", "Fractal");
-    return fractal_sum(make_plan(fractal, seed_), x, y, z, w);
+    if (!fractal_valid(fractal)) check_fractal(fractal, "fx::Noise::fractal4: ", "Fractal"); // throws
+    return lane_kernels().fractal4(fractal, seed_, x, y, z, w);
 }
 
 glm::dvec2 Noise::warp2(const DomainWarp& warp, glm::dvec2 p) const {

@@ -1,39 +1,17 @@
-// cellfx — the public batch fills: validate, allocate scratch, pick the kernels (noise_batch.hpp)
-// and run them; domain warp of point arrays on top.
+// cellfx — the public batch fills: validate, allocate scratch and run the chosen kernels
+// (noise_lanes.hpp); domain warp of point arrays on top.
 #include <algorithm>
-#include <atomic>
-#include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
-#include "noise_batch.hpp"
+#include "noise_lanes.hpp"
 
 namespace cellfx::fx {
 namespace noise_detail {
 namespace {
-
-std::atomic<int> g_requested_isa{static_cast<int>(BatchIsa::automatic)};
-
-const BatchKernels& kernels_for(BatchIsa isa) {
-#if FX_NOISE_HAVE_AVX2
-    if (isa == BatchIsa::avx2 && batch_isa_supported(BatchIsa::avx2)) return avx2_batch_kernels();
-#endif
-    (void)isa;
-    return baseline_batch_kernels();
-}
-
-BatchIsa automatic_isa() {
-    static const BatchIsa isa = [] {
-        const char* env = std::getenv("CELLFX_NOISE_ISA");
-        if (env != nullptr && std::strcmp(env, "baseline") == 0) return BatchIsa::baseline;
-        return batch_isa_supported(BatchIsa::avx2) ? BatchIsa::avx2 : BatchIsa::baseline;
-    }();
-    return isa;
-}
 
 // Scratch for fill_grid: the tables of GridScratch carved out of one allocation.
 template <int N> struct GridStorage {
@@ -123,62 +101,40 @@ void warp_points(const char* where, const Noise& noise, const DomainWarp& warp, 
 
 } // namespace
 
-bool batch_isa_supported(BatchIsa isa) {
-    switch (isa) {
-    case BatchIsa::automatic:
-    case BatchIsa::baseline:
-        return true;
-    case BatchIsa::avx2:
-#if FX_NOISE_HAVE_AVX2
-        return __builtin_cpu_supports("avx2");
-#else
-        return false;
-#endif
-    }
-    return false;
-}
-
-void set_batch_isa(BatchIsa isa) { g_requested_isa.store(static_cast<int>(isa)); }
-
-const BatchKernels& batch_kernels() {
-    const auto requested = static_cast<BatchIsa>(g_requested_isa.load());
-    return kernels_for(requested == BatchIsa::automatic ? automatic_isa() : requested);
-}
-
 } // namespace noise_detail
 
 using namespace noise_detail;
 
 void fill_grid2(const Noise& noise, const Fractal& fractal, const Grid2& g, float* out) {
     const GridSpec<2> grid{{g.origin.x, g.origin.y}, {g.step.x, g.step.y}, {g.nx, g.ny}};
-    fill_grid<2>("fx::fill_grid2: ", noise, fractal, grid, batch_kernels().fill_grid2, out);
+    fill_grid<2>("fx::fill_grid2: ", noise, fractal, grid, lane_kernels().fill_grid2, out);
 }
 void fill_grid3(const Noise& noise, const Fractal& fractal, const Grid3& g, float* out) {
     const GridSpec<3> grid{{g.origin.x, g.origin.y, g.origin.z}, {g.step.x, g.step.y, g.step.z}, {g.nx, g.ny, g.nz}};
-    fill_grid<3>("fx::fill_grid3: ", noise, fractal, grid, batch_kernels().fill_grid3, out);
+    fill_grid<3>("fx::fill_grid3: ", noise, fractal, grid, lane_kernels().fill_grid3, out);
 }
 void fill_grid4(const Noise& noise, const Fractal& fractal, const Grid4& g, float* out) {
     const GridSpec<4> grid{{g.origin.x, g.origin.y, g.origin.z, g.origin.w},
                            {g.step.x, g.step.y, g.step.z, g.step.w},
                            {g.nx, g.ny, g.nz, g.nw}};
-    fill_grid<4>("fx::fill_grid4: ", noise, fractal, grid, batch_kernels().fill_grid4, out);
+    fill_grid<4>("fx::fill_grid4: ", noise, fractal, grid, lane_kernels().fill_grid4, out);
 }
 
 void fill_points2(const Noise& noise, const Fractal& fractal, const glm::dvec2* points, std::size_t count, float* out) {
-    fill_points<2>("fx::fill_points2: ", noise, fractal, points, count, batch_kernels().fill_points2, out);
+    fill_points<2>("fx::fill_points2: ", noise, fractal, points, count, lane_kernels().fill_points2, out);
 }
 void fill_points3(const Noise& noise, const Fractal& fractal, const glm::dvec3* points, std::size_t count, float* out) {
-    fill_points<3>("fx::fill_points3: ", noise, fractal, points, count, batch_kernels().fill_points3, out);
+    fill_points<3>("fx::fill_points3: ", noise, fractal, points, count, lane_kernels().fill_points3, out);
 }
 void fill_points4(const Noise& noise, const Fractal& fractal, const glm::dvec4* points, std::size_t count, float* out) {
-    fill_points<4>("fx::fill_points4: ", noise, fractal, points, count, batch_kernels().fill_points4, out);
+    fill_points<4>("fx::fill_points4: ", noise, fractal, points, count, lane_kernels().fill_points4, out);
 }
 
 void warp_points2(const Noise& noise, const DomainWarp& warp, glm::dvec2* points, std::size_t count) {
-    warp_points<2>("fx::warp_points2: ", noise, warp, points, count, batch_kernels().fill_points2);
+    warp_points<2>("fx::warp_points2: ", noise, warp, points, count, lane_kernels().fill_points2);
 }
 void warp_points3(const Noise& noise, const DomainWarp& warp, glm::dvec3* points, std::size_t count) {
-    warp_points<3>("fx::warp_points3: ", noise, warp, points, count, batch_kernels().fill_points3);
+    warp_points<3>("fx::warp_points3: ", noise, warp, points, count, lane_kernels().fill_points3);
 }
 
 } // namespace cellfx::fx

@@ -1,6 +1,5 @@
-// cellfx — batch noise kernels: fill grids and point lists kLanes samples at a time. Included
-// once per instruction set (noise_batch_baseline.cpp, noise_batch_avx2.cpp) with FX_NOISE_ISA,
-// FX_NOISE_LANES and FX_NOISE_BATCH_KERNELS set; see noise_batch.hpp.
+// cellfx — batch noise kernels: fill grids and point lists kLanes samples at a time. Compiled
+// once per instruction set through noise_lanes_impl.hpp; see noise_lanes.hpp.
 //
 // Based on: the kernels of noise_kernels.hpp (Perlin 2002, Gustavson 2005) run on vector lanes.
 // Work goes in blocks of kBlock samples that stay in L1: for each octave the block's coordinates
@@ -12,7 +11,7 @@
 // containers and algorithms, glm): the linker could keep this build's copy for everyone.
 #define FX_NOISE_BATCH 1 // the double vector lanes of noise_kernels.hpp
 
-#include "noise_batch.hpp"
+#include "noise_lanes.hpp"
 
 namespace cellfx::fx::noise_detail {
 inline namespace FX_NOISE_ISA {
@@ -79,15 +78,17 @@ template <int N> struct Coordinates {
 };
 
 // Every octave of a block into its running sums: split in double lanes (scaled as fractal_sum
-// does), then the kernel in float lanes.
-template <int N> void evaluate_block(const FractalPlan& plan, const Coordinates<N>& c, std::size_t n, Block& b) {
+// does), then the kernel in float lanes. One loop per basis, so that each keeps its values in
+// registers.
+template <int N, NoiseBasis kBasis>
+void evaluate_block_of(const FractalPlan& plan, const Coordinates<N>& c, std::size_t n, Block& b) {
     for (int o = 0; o < plan.octaves; ++o) {
-        const VecU key = splat_u(VecU{}, plan.key[o]);
+        const VecU key = splat_u(VecU{}, mix_seed(plan.seed, o));
         for (std::size_t i = 0; i < n; i += kLanes) {
             VecD q[N];
             for (int a = 0; a < N; ++a) q[a] = octave_coordinate(load_lanes(c.x[a] + i), plan, o);
             VecF v;
-            if (plan.basis == NoiseBasis::perlin) {
+            if constexpr (kBasis == NoiseBasis::perlin) {
                 VAxis ax[N];
                 for (int a = 0; a < N; ++a) ax[a] = perlin_axis(q[a], kPrimes[a]);
                 v = perlin_lanes<N>(key, ax);
@@ -97,6 +98,10 @@ template <int N> void evaluate_block(const FractalPlan& plan, const Coordinates<
             b.add(plan, o, i, v);
         }
     }
+}
+template <int N> void evaluate_block(const FractalPlan& plan, const Coordinates<N>& c, std::size_t n, Block& b) {
+    if (plan.basis == NoiseBasis::perlin) evaluate_block_of<N, NoiseBasis::perlin>(plan, c, n, b);
+    else evaluate_block_of<N, NoiseBasis::simplex>(plan, c, n, b);
 }
 
 // Calls row_fn(index, out_row) for every row of the grid (x fastest, so a row is count[0]
@@ -116,6 +121,8 @@ template <int N, class RowFn> void for_each_row(const std::size_t (&count)[N], f
 template <int N>
 void fill_perlin_grid(const FractalPlan& plan, const GridSpec<N>& grid, const GridScratch<N>& scratch, float* out) {
     const std::size_t nx_padded = (grid.count[0] + kBlock - 1) / kBlock * kBlock;
+    std::uint32_t keys[kMaxOctaves];
+    for (int o = 0; o < plan.octaves; ++o) keys[o] = mix_seed(plan.seed, o);
     for (int o = 0; o < plan.octaves; ++o)
         for (int a = 0; a < N; ++a) {
             const AxisTable& table = scratch.table[o][a];
@@ -139,7 +146,7 @@ void fill_perlin_grid(const FractalPlan& plan, const GridSpec<N>& grid, const Gr
         for (std::size_t start = 0; start < grid.count[0]; start += kBlock) {
             const std::size_t n = smaller(kBlock, grid.count[0] - start);
             for (int o = 0; o < plan.octaves; ++o) {
-                const VecU key = splat_u(VecU{}, plan.key[o]);
+                const VecU key = splat_u(VecU{}, keys[o]);
                 const AxisTable* t = scratch.table[o];
                 VAxis ax[N];
                 for (int a = 1; a < N; ++a) {
@@ -201,13 +208,5 @@ void fill_points(const FractalPlan& plan, const double* coords, std::size_t stri
 
 } // namespace
 } // namespace FX_NOISE_ISA
-
-const BatchKernels& FX_NOISE_BATCH_KERNELS() {
-#define FX_NOISE_STRING2(x) #x
-#define FX_NOISE_STRING(x) FX_NOISE_STRING2(x)
-    static const BatchKernels kernels = {FX_NOISE_STRING(FX_NOISE_ISA), &fill_grid<2>,   &fill_grid<3>,  &fill_grid<4>,
-                                         &fill_points<2>,               &fill_points<3>, &fill_points<4>};
-    return kernels;
-}
 
 } // namespace cellfx::fx::noise_detail

@@ -22,8 +22,11 @@
 #include <cfloat>
 #include <cstdint>
 #include <cstring>
+#if defined(__SSE4_1__) || defined(__AVX__)
+#include <immintrin.h>
+#endif
 
-// The batch is compiled once per instruction set (noise_batch_impl.hpp); each build puts every
+// The lane kernels are compiled once per instruction set (noise_lanes_impl.hpp); each build puts every
 // inline function of these headers in its own namespace, so the linker can never hand an AVX2
 // copy of one to the baseline code.
 #ifndef FX_NOISE_ISA
@@ -147,7 +150,8 @@ inline VecF as_f(VecU u) { return (VecF)u; }
 inline VecU mask_eq(VecU a, VecU b) { return (VecU)(a == b); }
 inline VecU mask_gt(VecF a, VecF b) { return (VecU)(a > b); }
 inline VecU mask_ge(VecF a, VecF b) { return (VecU)(a >= b); }
-inline VecF splat_f(VecF, float v) { return VecF{} + v; }
+// v in every lane: v − (+0) is v for every v, −0 included (0 + v would turn −0 into +0).
+inline VecF splat_f(VecF, float v) { return v - VecF{}; }
 inline VecU splat_u(VecU, std::uint32_t v) { return VecU{} + v; }
 
 inline VecF load_f(const float* p) {
@@ -192,16 +196,22 @@ inline VecQ operator~(VecQ a) { return {~a.lo, ~a.hi}; }
 inline VecQ as_q(VecD d) { return {(VecQ2)d.lo, (VecQ2)d.hi}; }
 inline VecD as_d(VecQ q) { return {(VecD2)q.lo, (VecD2)q.hi}; }
 inline VecQ mask_gt(VecD a, VecD b) { return {(VecQ2)(a.lo > b.lo), (VecQ2)(a.hi > b.hi)}; }
-inline VecD splat_d(VecD, double v) { return {VecD2{} + v, VecD2{} + v}; }
+inline VecD splat_d(VecD, double v) { return {v - VecD2{}, v - VecD2{}}; } // as splat_f
 inline VecF narrow(VecD d) { // round to nearest, per lane
     VecD4 all;
     std::memcpy(&all, &d, sizeof all);
     return __builtin_convertvector(all, VecF);
 }
 inline VecU low32(VecQ q) { // truncation, per lane
+#if FX_NOISE_LANES == 8 && defined(__AVX2__)
+    // two shuffles (shufps per 128-bit lane, then vpermpd) where the conversion below takes five
+    const __m256 evens = _mm256_shuffle_ps((__m256)q.lo, (__m256)q.hi, _MM_SHUFFLE(2, 0, 2, 0));
+    return (VecU)_mm256_permute4x64_pd((__m256d)evens, _MM_SHUFFLE(3, 1, 2, 0));
+#else
     VecQ4 all;
     std::memcpy(&all, &q, sizeof all);
     return __builtin_convertvector(all, VecU);
+#endif
 }
 inline VecD load_d(const double* p) { // per half: one wide load each, no store-forwarding stall
     VecD v;
@@ -212,7 +222,7 @@ inline VecD load_d(const double* p) { // per half: one wide load each, no store-
 #endif
 #endif
 
-// Bit `b` of h as a mask.
+// Bit `b` of h as a mask for select().
 template <class U> inline U bit_mask(U h, int b) { return 0u - ((h >> b) & 1u); }
 // m ? a : b, bitwise.
 template <class F, class U> inline F select(U m, F a, F b) { return as_f((m & as_u(a)) | (~m & as_u(b))); }
@@ -222,6 +232,19 @@ template <class F, class U> inline F flip(F v, U h, int b) { return as_f(as_u(v)
 // 1.0f where the mask is set, else 0.0f.
 template <class F, class U> inline F one_if(U m) { return as_f(m & 0x3f800000u); }
 
+#if FX_NOISE_HAVE_VECTOR && (FX_NOISE_LANES == 8 ? defined(__AVX__) : FX_NOISE_LANES == 4 && defined(__SSE4_1__))
+#define FX_NOISE_X86_BLEND 1
+// x86 with blend instructions (SSE4.1 for 4 lanes, AVX for 8): a select is one blendv, which
+// reads only the sign bit of each mask lane, so a hash bit becomes a mask with one shift, and the
+// double lanes clamp with maxpd/minpd and floor with roundpd. Same values as the generic code.
+inline VecU bit_mask(VecU h, int b) { return h << (31 - b); } // for select only: bit b in the sign
+#if FX_NOISE_LANES == 8
+inline VecF select(VecU m, VecF a, VecF b) { return (VecF)_mm256_blendv_ps((__m256)b, (__m256)a, (__m256)m); }
+#else
+inline VecF select(VecU m, VecF a, VecF b) { return (VecF)_mm_blendv_ps((__m128)b, (__m128)a, (__m128)m); }
+#endif
+#endif
+
 // --- hash and gradients ---------------------------------------------------------------------
 
 // The lattice hash; its top bits pick a gradient (the multiply mixes every input bit upwards).
@@ -230,11 +253,11 @@ template <class U> inline U hash(U v) { return v * kHashMultiplier; }
 // 2-D: 8 unit gradients at 22.5° + k·45° (none along an axis or a diagonal, which would leave
 // visible lattice lines): (±cos 22.5°, ±sin 22.5°) and (±sin 22.5°, ±cos 22.5°). h = 4 hash
 // bits: bit 2 swaps the components, bits 0 and 1 are the signs; each gradient twice.
+// (The bits of h are read in place, as bits 28.. of the hash: one shift fewer per corner.)
 template <class F, class U> inline F grad2(U hashed, F x, F y) {
-    const U h = hashed >> 28;
-    const U swap = bit_mask(h, 2);
+    const U swap = bit_mask(hashed, 30);
     const F u = select(swap, y, x), v = select(swap, x, y);
-    return flip(u, h, 0) * kCos22 + flip(v, h, 1) * kSin22;
+    return flip(u, hashed, 28) * kCos22 + flip(v, hashed, 29) * kSin22;
 }
 
 // 3-D: Perlin 2002's 12 cube-edge gradients (length √2) padded to 16 with (1,1,0), (−1,1,0),
@@ -242,10 +265,21 @@ template <class F, class U> inline F grad2(U hashed, F x, F y) {
 // v = h<4 ? y : (h==12||h==14 ? x : z), signs from bits 0 and 1.
 template <class F, class U> inline F grad3(U hashed, F x, F y, F z) {
     const U h = hashed >> 28;
-    const F u = select(bit_mask(h, 3), y, x);
+    const F u = select(bit_mask(hashed, 31), y, x);
     const F v = select(mask_eq(h & 12u, splat_u(h, 0u)), y, select(mask_eq(h & 13u, splat_u(h, 12u)), x, z));
-    return flip(u, h, 0) + flip(v, h, 1);
+    return flip(u, hashed, 28) + flip(v, hashed, 29);
 }
+#if FX_NOISE_X86_BLEND
+// The same choice with blends on hash bits, fewer instructions where a blend reads one bit
+// (b31..b28 = h): v is z where b31 ≠ b30 (4 ≤ h < 12), else y where b31 is clear (h < 4), else
+// x or z by b28 (12, 14 or 13, 15).
+inline VecF grad3(VecU hashed, VecF x, VecF y, VecF z) {
+    const VecU b28 = hashed << 3;
+    const VecF u = select(hashed, y, x);
+    const VecF v = select(hashed ^ (hashed << 1), z, select(hashed, select(b28, z, x), y));
+    return as_f(as_u(u) ^ (b28 & 0x80000000u)) + flip(v, hashed, 29);
+}
+#endif
 
 // 4-D: the 32 gradients with one zero and three ±1 components (length √3); h = 6 hash bits,
 // bits 0–3 the signs, bits 4–5 the zero component; each gradient twice.
@@ -462,6 +496,31 @@ inline Floor<D1> floor_split(D1 x) {
     return {value, low32(as_q(value + kRoundMagic))};
 }
 
+#if FX_NOISE_X86_BLEND && defined(FX_NOISE_BATCH)
+// Double lanes with blend instructions: maxpd(x, lo) is x > lo ? x : lo and minpd(x, hi) is
+// x < hi ? x : hi, exactly the generic clamp (NaN becomes −2⁴⁸); roundpd floors exactly and
+// + 0.0 turns its −0 (for x = −0) into the +0 of the generic floor.
+#if FX_NOISE_LANES == 8
+inline VecD2 clamp_half(VecD2 x) {
+    const __m256d lo = _mm256_set1_pd(-kMaxCoordinate), hi = _mm256_set1_pd(kMaxCoordinate);
+    return (VecD2)_mm256_min_pd(_mm256_max_pd((__m256d)x, lo), hi);
+}
+inline VecD2 floor_half(VecD2 x) { return (VecD2)_mm256_floor_pd((__m256d)x) + 0.0; }
+#else
+inline VecD2 clamp_half(VecD2 x) {
+    const __m128d lo = _mm_set1_pd(-kMaxCoordinate), hi = _mm_set1_pd(kMaxCoordinate);
+    return (VecD2)_mm_min_pd(_mm_max_pd((__m128d)x, lo), hi);
+}
+inline VecD2 floor_half(VecD2 x) { return (VecD2)_mm_floor_pd((__m128d)x) + 0.0; }
+#endif
+inline VecD clamp_coordinate(VecD x) { return {clamp_half(x.lo), clamp_half(x.hi)}; }
+
+inline Floor<VecD> floor_split(VecD x) {
+    const VecD r = {floor_half(x.lo), floor_half(x.hi)};
+    return {r, low32(as_q(r + kRoundMagic))};
+}
+#endif
+
 constexpr std::uint32_t kPrimes[4] = {kPrimeX, kPrimeY, kPrimeZ, kPrimeW};
 
 // One Perlin axis from a coordinate: the cell times the axis prime and the offset in the cell,
@@ -503,8 +562,9 @@ inline SimplexSample<typename LanesOf<D>::F, typename LanesOf<D>::U, N> simplex_
 
 // The key of octave `octave` of a noise seeded with `seed` (octave 0 is the noise itself):
 // a bijective 32-bit mix (murmur3's finaliser), so nearby seeds give unrelated fields.
-inline std::uint32_t mix_seed(std::uint32_t seed, int octave) {
-    std::uint32_t h = seed + static_cast<std::uint32_t>(octave) * 0x9e3779b9u;
+// The lanes version takes each lane's octave.
+template <class U> inline U mix_seed(std::uint32_t seed, U octave) {
+    U h = octave * 0x9e3779b9u + seed;
     h ^= h >> 16;
     h *= 0x85ebca6bu;
     h ^= h >> 13;
@@ -512,6 +572,7 @@ inline std::uint32_t mix_seed(std::uint32_t seed, int octave) {
     h ^= h >> 16;
     return h;
 }
+inline std::uint32_t mix_seed(std::uint32_t seed, int octave) { return mix_seed(seed, static_cast<U1>(octave)); }
 
 } // namespace FX_NOISE_ISA
 } // namespace cellfx::fx::noise_detail
