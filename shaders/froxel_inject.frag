@@ -33,9 +33,11 @@ void main() {
     float t0 = segment.t_in, t1 = segment.t_in + segment.length;
     int k0 = slice_of(t0 * per_t), k1 = slice_of(t1 * per_t);
     ivec2 tile = ivec2(gl_FragCoord.xy);
-    for (int k = k0; k <= k1; ++k) {
-        float a = k == k0 ? t0 : slice_start(k) / per_t;
-        float b = k == k1 ? t1 : slice_start(k + 1) / per_t;
+    // Slice ends along the ray, each the last times e^step (one exp for the segment).
+    float growth = exp(u_slicing.y), end = slice_start(k0 + 1) / per_t;
+    for (int k = k0; k <= k1; ++k, end *= growth) {
+        float a = k == k0 ? t0 : end / growth;
+        float b = k == k1 ? t1 : end;
         if (!(b > a)) continue;
         float s_a = mix(segment.s_in, segment.s_out, (a - t0) / segment.length);
         float s_b = mix(segment.s_in, segment.s_out, (b - t0) / segment.length);

@@ -560,7 +560,8 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
        << "set linetype 7 lc rgb '#2ca02c'\n" // absorption-exact
        << "set linetype 8 lc rgb '#17becf'\n" // the froxel medium
        << "sorts = \"NaN w p pt 6 lc rgb 'gray40' t 'centroid', NaN w p pt 4 lc rgb 'gray40' t 'mpvo', "
-          "NaN w p pt 9 lc rgb 'gray40' t 'xmpvo', NaN w p pt 13 lc rgb 'gray40' t 'power'\"\n";
+          "NaN w p pt 9 lc rgb 'gray40' t 'xmpvo', NaN w p pt 13 lc rgb 'gray40' t 'power', "
+          "NaN w p pt 11 lc rgb 'gray40' t 'fx scale 1/2', NaN w p pt 15 lc rgb 'gray40' t 'fx scale 1/4'\"\n";
     for (int figure = 0; figure < 2; ++figure) {
         const int column = figure == 0 ? 2 : 3;
         gp << "\nset output '" << (figure == 0 ? "accuracy.png" : "accuracy_1spp.png") << "'\n"
@@ -792,7 +793,7 @@ void run_scene_file(const Options& o, const std::string& id, const std::string& 
         Row row;
         row.scene_id = s.id, row.scene = s.name, row.family = p.family, row.path = fx::render_path_name(p.path);
         row.model = p.model;
-        row.point = p.fx_scale == 1.0 ? 7 : p.fx_scale == 0.5 ? 9 : 13; // circle, triangle, diamond
+        row.point = p.fx_scale == 1.0 ? 7 : p.fx_scale == 0.5 ? 11 : 15; // circle, triangle down, pentagon
         row.width = s.width, row.height = s.height, row.cells = cells, row.frames = o.frames;
         for (const std::string& effect : r.effect_names()) r.set_path(effect, p.path);
         r.set_medium_method(p.medium);
