@@ -5,7 +5,7 @@
 // (i, j) is the ray through its centre, ndc ((i + 0.5)/x·2 − 1, (j + 0.5)/y·2 − 1)) and depth
 // slice k of u_grid.z, exponential in view depth z (along the view direction, not the ray):
 // slice k covers [z_k, z_k+1), z_k = z_near·e^(k·step), z_near the camera's near plane and
-// z_slices the farthest depth of the volumes injected (what lies beyond goes to the last
+// z_64 the farthest depth of the volumes injected (what lies beyond goes to the last
 // slice). Uniform locations 50–51 are clear of the projector's (gl_interface.hpp) and of the
 // compositor's (30–39).
 layout(location = 50) uniform ivec3 u_grid;   // tiles across, tiles up, slices

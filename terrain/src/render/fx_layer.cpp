@@ -1,4 +1,6 @@
-// The effects at a reduced resolution with a depth-aware upsample (fx_layer.hpp).
+// Based on: Cantlay 2007, "High-speed, off-screen particles" (GPU Gems 3, ch. 23) — volumes drawn
+// at a reduced resolution against a reduced depth and composited with depth-aware upsampling;
+// here with a checkerboard of nearest and farthest depths (fx_layer.hpp).
 #include "render/fx_layer.hpp"
 
 #include <algorithm>
