@@ -15,11 +15,11 @@
 // Drawn as one full-screen triangle (fullscreen.vert) with the scissor on the region, blending
 // off: it replaces what the ordinary paths drew where the mask is set, and leaves the rest.
 #include "medium_lists.glsl"
+#include "medium_lights.glsl"
 
 const int kSorted = 96;  // MediumCompositor::kSortedSegments
 const int kActive = 16;  // MediumCompositor::kActiveSegments
 const int kMaxVolumes = 32;
-const int kMaxPointLights = 8;
 const int kBulkBounds = 64; // the bulk's own segment ends among the other volumes and chords
 const int kBounds = 2 * kSorted + 3 * kMaxPointLights + kBulkBounds; // bin boundaries
 const int kTableSize = 4096;
@@ -34,8 +34,11 @@ layout(binding = 2) uniform sampler2D u_behind; // premultiplied, texel = gl_Fra
 
 layout(location = 33) uniform int u_bulk; // the bulk volume, −1: none
 // The pixel's ray in the eye-relative world frame (the eye at the origin).
+// Perspective: the ray of ndc (x, y) runs along u_forward + x·u_right + y·u_up (the near
+// plane's points: an explicit, off-axis projection too); orthographic: from x·u_right + y·u_up
+// along u_forward (unit).
 layout(location = 35) uniform vec3 u_forward;
-layout(location = 36) uniform vec3 u_right; // scaled: ndc.x · u_right is the offset (tan or half width)
+layout(location = 36) uniform vec3 u_right;
 layout(location = 37) uniform vec3 u_up;
 layout(location = 38) uniform int u_ortho;
 layout(location = 39) uniform vec4 u_viewport; // x, y, width, height in the framebuffer
@@ -45,10 +48,6 @@ layout(location = 72) uniform vec4 u_medium[kMaxVolumes];      // absorbs, albed
 layout(location = 104) uniform vec4 u_beam_origin[kMaxVolumes]; // lens (eye-relative), apex distance (0: parallel)
 layout(location = 136) uniform vec4 u_beam_axis[kMaxVolumes];   // unit axis, strength per scalar
 layout(location = 168) uniform vec4 u_beam_color[kMaxVolumes];  // rgb
-layout(location = 200) uniform int u_point_count;
-layout(location = 201) uniform vec4 u_point_position[kMaxPointLights]; // eye-relative, core radius r0
-layout(location = 209) uniform vec4 u_point_color[kMaxPointLights];    // rgb, radius R
-layout(location = 217) uniform float u_point_g[kMaxPointLights];
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
@@ -117,11 +116,6 @@ float seg_scalar(uint i, float t) {
 }
 
 // ---- lights --------------------------------------------------------------------------------
-// Henyey–Greenstein relative to isotropic scattering (fx::relative_phase): 4π·p.
-float relative_phase(float g, float mu) {
-    float d = max(1.0 + g * g - 2.0 * g * mu, 1e-6);
-    return (1.0 - g * g) / (d * sqrt(d));
-}
 
 vec3 g_origin, g_dir; // this pixel's ray
 
@@ -156,43 +150,10 @@ float beam_scatter(int vk, uint k, int vm, uint m, float a, float b, float tau) 
     return sum * (b - a) / 6.0;
 }
 
-// Light scattered towards the eye over [a, b] by point light l in medium m (volume vm):
-// ∫ σ_m(t) · r0²/(r0² + r²)(1 − r²/R²)² · 4π·p(μ) dt. With u = t − t_c (t_c nearest the light,
-// h its distance) substituted by u = √q·tan φ, q = r0² + h², the falloff's inverse-square part
-// becomes constant in φ and what is left is smooth, except that the phase turns from forward to
-// backward over |u| ≲ h: 4-point Gauss–Legendre in φ on |u| < 3h and beyond, on each side of
-// t_c; each node dimmed by the span's optical depth `tau` from a to it (spread evenly).
-const float kGaussX[4] = float[4](-0.861136312, -0.339981044, 0.339981044, 0.861136312);
-const float kGaussW[4] = float[4](0.347854845, 0.652145155, 0.652145155, 0.347854845);
-float point_light_scatter(int l, uint m, int vm, float a, float b, float tau) {
-    vec3 c = u_point_position[l].xyz;
-    float r0 = u_point_position[l].w, R = u_point_color[l].w;
-    float tc = dot(c - g_origin, g_dir);
-    vec3 closest = g_origin + g_dir * tc - c;
-    float h2 = dot(closest, closest);
-    if (h2 >= R * R) return 0.0;
-    float w2 = R * R - h2, w = sqrt(w2);
-    float u0 = max(a, tc - w) - tc, u1 = min(b, tc + w) - tc;
-    if (!(u1 > u0)) return 0.0;
-    float q = r0 * r0 + h2, sq = sqrt(q), turn = 3.0 * sqrt(h2);
-    float g = u_point_g[l];
-    // The pieces' ends in u: [u0, −turn, 0, turn, u1], each clamped to [u0, u1].
-    float ends[5] = float[5](u0, clamp(-turn, u0, u1), clamp(0.0, u0, u1), clamp(turn, u0, u1), u1);
-    float sum = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        if (!(ends[k + 1] > ends[k])) continue;
-        float p0 = atan(ends[k] / sq), p1 = atan(ends[k + 1] / sq);
-        for (int j = 0; j < 4; ++j) {
-            float u = sq * tan(mix(p0, p1, 0.5 + 0.5 * kGaussX[j]));
-            float window = max(w2 - u * u, 0.0) / (R * R);
-            float mu = -u / sqrt(h2 + u * u + 1e-30); // the light's direction · back to the eye
-            float dim = exp(-tau * clamp((tc + u - a) / (b - a), 0.0, 1.0));
-            // f·du/dφ = r0²/(q + u²)·window²·(q + u²)/√q
-            sum += kGaussW[j] * 0.5 * (p1 - p0) * medium_sigma(m, vm, tc + u) * window * window * relative_phase(g, mu) * dim;
-        }
-    }
-    return sum * r0 * r0 / sq;
-}
+// The medium point_light_scatter (medium_lights.glsl) weighs by: set before each call.
+uint scatter_m = kBulk;
+int scatter_vm = 0;
+float scatter_sigma(float t) { return medium_sigma(scatter_m, scatter_vm, t); }
 
 // ---- the sweep -------------------------------------------------------------------------------
 uint active_segment[kActive];
@@ -235,7 +196,9 @@ vec4 span_media(float a, float b, vec4 bulk, out vec3 light) {
             if (j == i || u_medium[vk].z < 0.5) continue;
             light += albedo * u_beam_color[vk].rgb * beam_scatter(vk, k, vm, m, a, b, tau);
         }
-        for (int p = 0; p < u_point_count; ++p) light += albedo * point_light_scatter(p, m, vm, a, b, tau) * u_point_color[p].rgb;
+        scatter_m = m, scatter_vm = vm;
+        for (int p = 0; p < u_point_count; ++p)
+            light += albedo * point_light_scatter(p, g_origin, g_dir, a, b, tau) * u_point_color[p].rgb;
     }
     return vec4(e, tau);
 }

@@ -237,35 +237,58 @@ TEST_CASE("A steady frame with a moving camera allocates nothing and starts no t
 
 TEST_CASE("A steady frame of the one medium (volumes overlapping on screen) allocates nothing and starts no thread",
           "[gl][budget][medium]") {
-    // Two constant volume boxes, one in front of the other (tests/data/medium): every frame goes
-    // through the compositor (plan, appends, resolve) and uploads nothing.
+    // Two constant volume boxes, one in front of the other (tests/data/medium), and the night
+    // valley (terrain fog, fire, smoke, beam): every frame goes through the medium — the exact
+    // compositor (plan, appends, resolve) or the froxel grid (injection, integration, apply, the
+    // emission pass) — at each fx scale (the reduced layer, its depth and its upsample), and
+    // uploads nothing that did not change.
     fx_test::gl_context();
-    const terrain::Scene scene = terrain::load_scene(fx_test::source_path("tests/data/medium/emission_behind_fog.json"));
-    cellfx::Module fx;
-    fx.init(cellfx::Config::from_scene(scene, kW, kH));
-    GLuint framebuffer = 0, color = 0;
-    glCreateFramebuffers(1, &framebuffer);
-    glCreateTextures(GL_TEXTURE_2D, 1, &color);
-    glTextureStorage2D(color, 1, GL_RGBA8, kW, kH);
-    glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, color, 0);
-    const cellfx::Target target{framebuffer, {0, 0, kW, kH}, 0};
-    Count update, render;
-    for (int f = 0; f < kWarmup + kMeasured; ++f) {
-        const fx::Camera cam = moving_camera(scene, pose_of_frame(f));
-        const Count u = count([&] { fx.update(1.0 / 30.0, cam); });
-        const Count r = count([&] { fx.render(target); });
-        if (f < kWarmup) continue;
-        REQUIRE(fx.stats().medium.pixels > 0);
-        update.allocations += u.allocations, update.threads += u.threads;
-        render.allocations += r.allocations, render.threads += r.threads;
+    struct Row {
+        const char* scene;
+        fx::MediumMethod method;
+        double scale;
+    };
+    std::vector<Row> rows;
+    for (fx::MediumMethod method : {fx::MediumMethod::Exact, fx::MediumMethod::Froxel})
+        for (double scale : {1.0, 0.5, 0.25}) rows.push_back({"tests/data/medium/emission_behind_fog.json", method, scale});
+    for (double scale : {1.0, 0.5}) rows.push_back({"content/scenes/fog_valley_night.json", fx::MediumMethod::Froxel, scale});
+    for (const Row& row : rows) {
+        INFO(row.scene << ", " << fx::medium_method_name(row.method) << ", fx scale " << row.scale);
+        const terrain::Scene scene = terrain::load_scene(fx_test::source_path(row.scene));
+        cellfx::Config config = cellfx::Config::from_scene(scene, kW, kH);
+        config.medium = row.method;
+        config.fx_scale = row.scale;
+        cellfx::Module fx;
+        fx.init(config);
+        GLuint framebuffer = 0, color = 0, depth = 0;
+        glCreateFramebuffers(1, &framebuffer);
+        glCreateTextures(GL_TEXTURE_2D, 1, &color);
+        glTextureStorage2D(color, 1, GL_RGBA8, kW, kH);
+        glCreateTextures(GL_TEXTURE_2D, 1, &depth);
+        glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT24, kW, kH);
+        glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, color, 0);
+        glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth, 0);
+        const cellfx::Target target{framebuffer, {0, 0, kW, kH}, depth};
+        Count update, render;
+        for (int f = 0; f < kWarmup + kMeasured; ++f) {
+            const fx::Camera cam = moving_camera(scene, pose_of_frame(f));
+            const Count u = count([&] { fx.update(1.0 / 30.0, cam); });
+            const Count r = count([&] { fx.render(target); });
+            if (f < kWarmup) continue;
+            REQUIRE(fx.stats().medium.pixels > 0);
+            REQUIRE(fx.stats().medium.method == row.method);
+            update.allocations += u.allocations, update.threads += u.threads;
+            render.allocations += r.allocations, render.threads += r.threads;
+        }
+        glFinish();
+        glDeleteFramebuffers(1, &framebuffer);
+        glDeleteTextures(1, &color);
+        glDeleteTextures(1, &depth);
+        fx_test::require_no_gl_error();
+        CHECK(update.allocations == 0);
+        CHECK(render.allocations == 0);
+        CHECK(update.threads + render.threads == 0);
     }
-    glFinish();
-    glDeleteFramebuffers(1, &framebuffer);
-    glDeleteTextures(1, &color);
-    fx_test::require_no_gl_error();
-    CHECK(update.allocations == 0);
-    CHECK(render.allocations == 0);
-    CHECK(update.threads + render.threads == 0);
 }
 
 namespace {

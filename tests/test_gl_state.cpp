@@ -110,6 +110,14 @@ State read_state() {
         indexed("storage start", GL_SHADER_STORAGE_BUFFER_START, i, 1);
         indexed("storage size", GL_SHADER_STORAGE_BUFFER_SIZE, i, 1);
     }
+    for (GLuint i = 0; i < 2; ++i) { // image units (the froxel medium's compute pass binds 0 and 1)
+        for (GLenum e : {GL_IMAGE_BINDING_NAME, GL_IMAGE_BINDING_LEVEL, GL_IMAGE_BINDING_LAYER, GL_IMAGE_BINDING_ACCESS,
+                         GL_IMAGE_BINDING_FORMAT})
+            indexed("image unit", e, i, 1);
+        GLboolean layered = GL_FALSE;
+        glGetBooleani_v(GL_IMAGE_BINDING_LAYERED, i, &layered);
+        s.emplace_back("image unit(" + std::to_string(i) + ") layered", layered);
+    }
     GLint active = 0;
     glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
     s.emplace_back("active texture", active);
@@ -175,6 +183,9 @@ struct CachingRenderer {
             glBindSampler(GLuint(unit), samplers[unit]);
         }
         glActiveTexture(GL_TEXTURE6);
+        // Image units: a layer of a 2D array on 0, a whole 3D texture on 1.
+        glBindImageTexture(0, textures[4], 0, GL_FALSE, 1, GL_READ_ONLY, GL_RGBA8);
+        glBindImageTexture(1, textures[2], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8UI);
 
         const char* vs = "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n";
         const char* fs = "#version 450 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
@@ -264,6 +275,7 @@ struct CachingRenderer {
             glBindTextureUnit(GLuint(unit), 0);
             glBindSampler(GLuint(unit), 0);
         }
+        for (GLuint unit = 0; unit < 2; ++unit) glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8);
         glActiveTexture(GL_TEXTURE0);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glDisablei(GL_BLEND, 0);
@@ -365,6 +377,39 @@ TEST_CASE("render() leaves every GL state of a caching renderer as it was, and d
             }
         }
     }
+}
+
+TEST_CASE("The one medium (froxel grid, exact lists) and the reduced resolutions leave the state as it was",
+          "[gl][embedding][state][medium]") {
+    // The fire inside a mist volume (one medium), each method at full and quarter resolution.
+    fx_test::gl_context();
+    terrain::Scene scene = fire_scene(false);
+    terrain::EffectSpec mist;
+    mist.name = "mist";
+    fx::VolumeParams p;
+    p.size = {1.4, 1.4, 1.6};
+    p.position = {0.0, 0.0, 0.7};
+    mist.params = p;
+    mist.transfer_function = fx::TransferFunction::constant({0.35, 0.4, 0.5}, 0.8);
+    mist.absorb = true;
+    mist.albedo = 0.6;
+    scene.effects.push_back(mist);
+    for (fx::MediumMethod method : {fx::MediumMethod::Froxel, fx::MediumMethod::Exact})
+        for (double scale : {1.0, 0.25}) {
+            INFO(fx::medium_method_name(method) << " at fx scale " << scale);
+            cellfx::Config config = cellfx::Config::from_scene(scene, kW, kH);
+            config.medium = method;
+            config.fx_scale = scale;
+            cellfx::Module fx;
+            fx.init(config);
+            const fx::Image calm = module_frame(fx, false, false);
+            REQUIRE(fx.stats().medium.pixels > 0);
+            REQUIRE(fx.stats().medium.method == method);
+            const fx::Image hostile = module_frame(fx, false, true);
+            const fx_test::ImageDifference d = fx_test::compare_images(hostile, calm);
+            if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("gl_state_medium", hostile, calm, 10.0f));
+            CHECK(d.max_delta == 0.0f);
+        }
 }
 
 TEST_CASE("CellRenderer::render on its own restores the caching renderer's state too", "[gl][state]") {

@@ -29,14 +29,19 @@ int run_bench(const std::vector<std::string>& args) {
                   "  effects    shipped effect scenes (campfire, searchlight, laser, fog_valley, aurora, fog_valley_night)\n"
                   "             per render path: ms/frame, GPU ms per stage, verified against the scan-line reference, then\n"
                   "             cellfx's CPU per game frame apart from the GL driver's; options: --scenes a,b, --paths a,b,\n"
-                  "             --frames N (8; 60 with --only-cpu), --size WxH, --skip-verify, --only-cpu, --json FILE\n"
+                  "             --frames N (8; 60 with --only-cpu), --size WxH, --skip-verify, --only-cpu,\n"
+                  "             --fx-scale 1,0.5,0.25 (a row per effects' resolution), --medium froxel|exact, --json FILE\n"
+                  "  flicker    frame-to-frame change along depth edges at each fx scale, along the night valley's\n"
+                  "             flight; options: --scene FILE, --frames N (60), --time T, --size WxH,\n"
+                  "             --fx-scale 1,0.5,0.25, --medium froxel|exact, --disable a,b, --json FILE\n"
                   "  render     every path on an orbit around any mesh (FILE [Q_FILE]): ms/frame, cells/s, CPU and\n"
                   "             GPU ms, bytes per cell, each frame checked against the scan-line renderer; options:\n"
                   "             --paths a,b, --views N (8), --size WxH (512x512), --up x|y|z, --sort a,b, --scalar,\n"
                   "             --tf, --density, --threads, --json FILE, --images DIR (see 'cellfx bench render --help')\n"
                   "  accuracy   every path and flavour against the 4x4 scan-line reference: ms per frame, RMSE, max, PSNR;\n"
                   "             writes CSV, Markdown and a plot; options: --out DIR (out/accuracy), --frames N (5),\n"
-                  "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside, --fem-cells N (1000000),\n"
+                  "             --quick, --scenes blunt-fin,fem,fog-above,fog-inside,campfire,searchlight,night-valley,\n"
+                  "             fog-valley-scales, --fem-cells N (1000000),\n"
                   "             --blunt-fin DIR, --images (every flavour's frame as PNG)\n"
                   "  noise      fx::Noise, one call per sample and batch fills, per instruction set: M samples/s;\n"
                   "             options: --rounds N (9), --size N (64: 64^3 samples), --isa all|avx2|baseline");
@@ -50,10 +55,11 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "absorption") return bench_absorption(rest);
     if (args[0] == "effects") return bench_effects(rest);
     if (args[0] == "accuracy") return bench_accuracy(rest);
+    if (args[0] == "flicker") return bench_flicker(rest);
     if (args[0] == "render") return bench_render(rest);
     if (args[0] == "noise") return bench_noise(rest);
     throw fx::Error("unknown benchmark '" + args[0] +
-                    "' (expected scanline, pcp, sort, terrain, absorption, effects, accuracy, render or noise)");
+                    "' (expected scanline, pcp, sort, terrain, absorption, effects, accuracy, flicker, render or noise)");
 }
 
 } // namespace cellfx_cli

@@ -29,7 +29,9 @@
 //
 // The night valley (content/scenes/fog_valley_night.json) is a scene of several volumes, drawn
 // through terrain::SceneRenderer as one medium and compared with the scan-line reference of the
-// volumes as intersecting grids, a row per path (run_night_valley).
+// volumes as intersecting grids: a row per path with the exact medium, then the froxel grid and
+// the reduced resolutions (run_night_valley); the fog valley's scene (fog_valley.json) the same
+// way at each resolution (run_fog_valley_scene).
 //
 // Writes into --out (default out/accuracy): accuracy.csv, accuracy.md (a table per scene),
 // accuracy.png (time against error, one panel per scene, one labelled point per flavour, log
@@ -44,6 +46,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -435,6 +438,7 @@ struct Row {
     ImageError error;       // against the 4×4 reference
     ImageError point_error; // against the 1-sample reference
     double reference_peak = 0.0;
+    int point = 0; // gnuplot point type (0: by the visibility sort)
 };
 
 std::string csv_number(double v) {
@@ -509,6 +513,7 @@ void write_markdown(const std::string& path, const std::vector<BenchScene>& scen
 void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, const std::vector<Row>& rows,
                 const std::string& title) {
     auto point_type = [](const Row& r) {
+        if (r.point != 0) return r.point;                // the effects' resolution (scene-file rows)
         if (r.path == "scanline") return 5;              // filled square
         if (r.sort.empty()) return 7;                    // filled circle
         static const char* sorts[] = {"centroid", "mpvo", "xmpvo", "power"};
@@ -525,11 +530,11 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
             data << "# " << s.name << "\n";
             for (const Row& r : rows) {
                 if (r.scene_id != s.id) continue;
-                const bool labelled = r.sort.empty() || r.sort == "xmpvo";
+                const bool labelled = (r.sort.empty() || r.sort == "xmpvo");
                 const std::string label = r.sort.empty() ? r.flavour : r.path;
                 // Where exact flavours meet at the sampling floor, their labels would print on top
                 // of each other: each family's label sits a little higher or lower.
-                static const double lift[] = {1.0, 1.0, 1.0, 1.0, 0.78, 1.0, 1.3, 0.62};
+                static const double lift[] = {1.0, 1.0, 1.0, 1.0, 0.78, 1.0, 1.3, 0.62, 1.0};
                 data << csv_number(r.frame_ms) << ' ' << csv_number(r.error.rmse) << ' '
                      << csv_number(r.point_error.rmse) << ' ' << r.family << ' ' << point_type(r) << " \""
                      << (labelled ? label : std::string()) << "\" " << lift[r.family] << "\n";
@@ -553,8 +558,10 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
        << "set linetype 5 lc rgb '#9467bd'\n" // mip
        << "set linetype 6 lc rgb '#1f77b4'\n" // absorption
        << "set linetype 7 lc rgb '#2ca02c'\n" // absorption-exact
+       << "set linetype 8 lc rgb '#17becf'\n" // the froxel medium
        << "sorts = \"NaN w p pt 6 lc rgb 'gray40' t 'centroid', NaN w p pt 4 lc rgb 'gray40' t 'mpvo', "
-          "NaN w p pt 9 lc rgb 'gray40' t 'xmpvo', NaN w p pt 13 lc rgb 'gray40' t 'power'\"\n";
+          "NaN w p pt 9 lc rgb 'gray40' t 'xmpvo', NaN w p pt 13 lc rgb 'gray40' t 'power', "
+          "NaN w p pt 11 lc rgb 'gray40' t 'fx scale 1/2', NaN w p pt 15 lc rgb 'gray40' t 'fx scale 1/4'\"\n";
     for (int figure = 0; figure < 2; ++figure) {
         const int column = figure == 0 ? 2 : 3;
         gp << "\nset output '" << (figure == 0 ? "accuracy.png" : "accuracy_1spp.png") << "'\n"
@@ -582,7 +589,7 @@ struct Options {
     std::string out = "out/accuracy";
     std::string blunt_fin;
     int fem_cells = 1000000;
-    std::string scenes = "blunt-fin,fem,fog-above,fog-inside,campfire,searchlight,night-valley";
+    std::string scenes = "blunt-fin,fem,fog-above,fog-inside,campfire,searchlight,night-valley,fog-valley-scales";
     bool images = false; // every flavour's last frame as <scene>_<flavour>.png
     std::string command;
 };
@@ -688,47 +695,52 @@ void run_scene(BenchScene& s, const Options& o, std::vector<Row>& rows, bool& fa
     }
 }
 
-// ---- the night valley: a scene of several volumes as one medium --------------------------------
+// ---- scene files through terrain::SceneRenderer: the one medium and the effects' resolution ------
 
-// content/scenes/fog_valley_night.json at t = 0 from its camera: fog, campfire, smoke and search
-// light through terrain::SceneRenderer with every effect on one path (the terrain not drawn: the
-// reference cannot draw it), against the scan-line reference of the same volumes as intersecting
-// grids (terrain/scene_reference.hpp) with each path's optical model — pcp emission, mip maximum;
-// pcp-exact the one medium as the scene declares it (fire and beam emissive only); the sorted
-// paths the one medium with every volume absorbing, as they draw it.
-struct NightValley {
-    std::unique_ptr<terrain::SceneRenderer> renderer;
-    fx::Camera camera;
-    glm::dvec3 background;
+// A scene file at t = 0 from its camera through terrain::SceneRenderer (the terrain not drawn:
+// the reference cannot draw it), against the scan-line reference of the same volumes as
+// intersecting grids (terrain/scene_reference.hpp) with each path's optical model — pcp emission,
+// mip maximum; pcp-exact the one medium as the scene declares it (fire and beam emissive only);
+// the sorted paths the one medium with every volume absorbing, as they draw it.
+//   night valley (content/scenes/fog_valley_night.json): fog, campfire, smoke and search light —
+//     every path with the exact medium, then pcp-exact with the froxel grid and at the reduced
+//     resolutions (fx_scale 1/2, 1/4) with either medium;
+//   fog valley (content/scenes/fog_valley.json): its fog alone (no medium) with pcp-exact at
+//     each resolution.
+struct SceneRow {
+    fx::RenderPath path;
+    fx::MediumMethod medium;
+    double fx_scale;
+    const char* model;
+    int family;
 };
 
-NightValley night_valley() {
-    NightValley n;
-    const terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/fog_valley_night.json");
-    n.camera = scene.camera_path ? scene.camera_path->at(0.0, scene.camera) : scene.camera;
-    n.background = scene.background;
-    n.renderer = std::make_unique<terrain::SceneRenderer>(scene);
-    n.renderer->set_terrain_drawn(false);
-    n.renderer->set_time(0.0);
-    return n;
-}
+std::string scale_suffix(double scale) { return scale == 1.0 ? "" : scale == 0.5 ? " 1/2" : " 1/4"; }
 
-void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::vector<Row>& rows, bool& failed) {
+void run_scene_file(const Options& o, const std::string& id, const std::string& name, const std::string& file,
+                    const std::vector<SceneRow>& flavours, std::vector<BenchScene>& scenes, std::vector<Row>& rows, bool& failed) {
     BenchScene s;
-    s.id = "night-valley";
-    s.name = "night valley";
+    s.id = id;
+    s.name = name;
     s.width = o.quick ? 64 : 320, s.height = o.quick ? 48 : 240;
-    NightValley n = night_valley();
-    s.background = n.background;
-    terrain::SceneRenderer& r = *n.renderer;
-    r.update(0.0, n.camera, s.width, s.height);
+    const terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + file);
+    const fx::Camera camera = scene.camera_path ? scene.camera_path->at(0.0, scene.camera) : scene.camera;
+    s.background = scene.background;
+    terrain::SceneRenderer r(scene);
+    r.set_terrain_drawn(false);
+    r.set_time(0.0);
+    r.update(0.0, camera, s.width, s.height);
     std::size_t cells = 0;
-    for (const terrain::SceneRenderer::DrawnVolume& v : r.drawn_volumes()) cells += v.effect->mesh().cell_count();
-    char note[240];
+    std::string volumes;
+    for (const terrain::SceneRenderer::DrawnVolume& v : r.drawn_volumes()) {
+        cells += v.effect->mesh().cell_count();
+        volumes += (volumes.empty() ? "" : ", ") + v.name;
+    }
+    char note[320];
     std::snprintf(note, sizeof note,
-                  "fog_valley_night.json at t = 0: fog, campfire, smoke and search light (%zu cells), one path for all, "
-                  "terrain not drawn; reference: the volumes as intersecting grids",
-                  cells);
+                  "%s at t = 0: %s (%zu cells), one path for all, terrain not drawn; reference: the volumes as intersecting "
+                  "grids; \"froxel\": the bounded medium, \"1/2\", \"1/4\": the effects' resolution (fx_scale)",
+                  file.c_str(), volumes.c_str(), cells);
     s.note = note;
     std::printf("\n%s: %s; %dx%d\n", s.name.c_str(), s.note.c_str(), s.width, s.height);
 
@@ -737,11 +749,11 @@ void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::ve
         fx::Image supersampled, point;
     };
     auto reference = [&](fx::RenderPath path, const char* label) {
-        for (const std::string& name : r.effect_names()) r.set_path(name, path);
-        r.update(0.0, n.camera, s.width, s.height); // the meshes of this size's LOD
+        for (const std::string& effect : r.effect_names()) r.set_path(effect, path);
+        r.update(0.0, camera, s.width, s.height); // the meshes of this size's LOD
         Reference ref;
         const auto t0 = Clock::now();
-        ref.supersampled = box_filter(terrain::render_scene_reference(r, n.camera, kSupersample * s.width, kSupersample * s.height),
+        ref.supersampled = box_filter(terrain::render_scene_reference(r, camera, kSupersample * s.width, kSupersample * s.height),
                                       kSupersample);
         std::printf("  reference %-30s %dx%d in %.1f s, peak %.3f\n", label, kSupersample * s.width, kSupersample * s.height,
                     ms_since(t0) * 1e-3, peak_of(ref.supersampled));
@@ -752,23 +764,11 @@ void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::ve
     };
     std::printf("  %-26s %-20s %9s %9s %9s %10s %10s %8s %10s\n", "flavour", "model", "ms/frame", "gpu ms", "first ms",
                 "rmse", "max abs", "psnr dB", "rmse 1spp");
-    const struct {
-        fx::RenderPath path;
-        const char* model;
-        int family;
-    } paths[] = {{fx::RenderPath::Pcp, "emission", 2},
-                 {fx::RenderPath::PcpExact, "one medium", 3},
-                 {fx::RenderPath::Mip, "maximum", 5},
-                 {fx::RenderPath::Absorption, "one medium (all absorb)", 6},
-                 {fx::RenderPath::AbsorptionExact, "one medium (all absorb)", 7}};
-    std::optional<Reference> sorted_reference; // the two sorted paths share theirs
-    for (const auto& p : paths) {
+    std::map<std::string, Reference> references; // by model: the sorted paths share theirs
+    for (const SceneRow& p : flavours) {
         const bool sorted = p.path == fx::RenderPath::Absorption || p.path == fx::RenderPath::AbsorptionExact;
-        Reference ref;
-        if (sorted && sorted_reference) {
-            ref = *sorted_reference;
-        } else {
-            ref = reference(p.path, p.model);
+        if (!references.count(p.model)) {
+            Reference ref = reference(p.path, p.model);
             // The scan-line reference at one sample per pixel, timed, as its own row.
             Row row;
             row.scene_id = s.id, row.scene = s.name, row.family = 1, row.path = "scanline", row.model = p.model;
@@ -778,7 +778,7 @@ void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::ve
             std::vector<double> wall;
             for (int i = 0; i < o.frames; ++i) {
                 const auto t0 = Clock::now();
-                ref.point = terrain::render_scene_reference(r, n.camera, s.width, s.height);
+                ref.point = terrain::render_scene_reference(r, camera, s.width, s.height);
                 wall.push_back(ms_since(t0));
             }
             row.frame_ms = median(wall);
@@ -787,26 +787,33 @@ void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::ve
             std::printf("  %-26s %-20s %9s %9s %9s %10.3g %10.3g %8.1f %10.3g\n", row.flavour.c_str(), row.model.c_str(),
                         ms_text(row.frame_ms).c_str(), "-", "-", row.error.rmse, row.error.max_abs, row.error.psnr, 0.0);
             rows.push_back(row);
-            if (sorted) sorted_reference = ref;
+            references[p.model] = std::move(ref);
         }
+        const Reference& ref = references[p.model];
         Row row;
         row.scene_id = s.id, row.scene = s.name, row.family = p.family, row.path = fx::render_path_name(p.path);
-        row.flavour = row.path, row.model = p.model;
+        row.model = p.model;
+        row.point = p.fx_scale == 1.0 ? 7 : p.fx_scale == 0.5 ? 11 : 15; // circle, triangle down, pentagon
         row.width = s.width, row.height = s.height, row.cells = cells, row.frames = o.frames;
-        for (const std::string& name : r.effect_names()) r.set_path(name, p.path);
+        for (const std::string& effect : r.effect_names()) r.set_path(effect, p.path);
+        r.set_medium_method(p.medium);
+        r.set_fx_scale(p.fx_scale);
         r.set_timing(true);
         terrain::FrameStats stats;
         auto t0 = Clock::now();
-        fx::Image image = r.render_to_image(n.camera, s.width, s.height, &stats); // first frame
+        fx::Image image = r.render_to_image(camera, s.width, s.height, &stats); // first frame
         row.first_ms = ms_since(t0);
         std::vector<double> wall, gpu;
         for (int i = 0; i < o.frames; ++i) {
             t0 = Clock::now();
-            image = r.render_to_image(n.camera, s.width, s.height, &stats);
+            image = r.render_to_image(camera, s.width, s.height, &stats);
             wall.push_back(ms_since(t0));
             gpu.push_back(stats.gpu_ms);
         }
         r.set_timing(false);
+        // Named by what ran: "froxel" where the grid integrated overlapping volumes.
+        const bool froxel = stats.medium.pixels > 0 && stats.medium.method == fx::MediumMethod::Froxel;
+        row.flavour = row.path + (froxel ? " froxel" : "") + scale_suffix(p.fx_scale);
         // The frame is opaque (over the background), the references premultiplied: image_error
         // compares what is displayed.
         row.frame_ms = median(wall);
@@ -814,7 +821,12 @@ void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::ve
         row.error = image_error(image, ref.supersampled, s.background);
         row.point_error = image_error(image, ref.point, s.background);
         row.reference_peak = peak_of(ref.supersampled);
-        if (o.images) fx::write_png(image, o.out + "/" + s.id + "_" + row.flavour + ".png");
+        if (o.images) {
+            std::string file_name = row.flavour;
+            std::replace(file_name.begin(), file_name.end(), ' ', '_');
+            std::replace(file_name.begin(), file_name.end(), '/', '-');
+            fx::write_png(image, o.out + "/" + s.id + "_" + file_name + ".png");
+        }
         // Verified: finite, and the volumes there (a tenth of the pixels off the background).
         std::size_t shown = 0;
         for (const glm::vec4& px : image.pixels)
@@ -828,6 +840,37 @@ void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::ve
         rows.push_back(std::move(row));
     }
     scenes.push_back(std::move(s));
+}
+
+void run_night_valley(const Options& o, std::vector<BenchScene>& scenes, std::vector<Row>& rows, bool& failed) {
+    using fx::MediumMethod;
+    using fx::RenderPath;
+    const char* medium = "one medium";
+    const char* all_absorb = "one medium (all absorb)";
+    run_scene_file(o, "night-valley", "night valley", "fog_valley_night.json",
+                   {{RenderPath::Pcp, MediumMethod::Exact, 1.0, "emission", 2},
+                    {RenderPath::PcpExact, MediumMethod::Exact, 1.0, medium, 3},
+                    {RenderPath::Mip, MediumMethod::Exact, 1.0, "maximum", 5},
+                    {RenderPath::Absorption, MediumMethod::Exact, 1.0, all_absorb, 6},
+                    {RenderPath::AbsorptionExact, MediumMethod::Exact, 1.0, all_absorb, 7},
+                    {RenderPath::PcpExact, MediumMethod::Froxel, 1.0, medium, 8},
+                    {RenderPath::AbsorptionExact, MediumMethod::Froxel, 1.0, all_absorb, 8},
+                    {RenderPath::PcpExact, MediumMethod::Exact, 0.5, medium, 3},
+                    {RenderPath::PcpExact, MediumMethod::Exact, 0.25, medium, 3},
+                    {RenderPath::PcpExact, MediumMethod::Froxel, 0.5, medium, 8},
+                    {RenderPath::PcpExact, MediumMethod::Froxel, 0.25, medium, 8}},
+                   scenes, rows, failed);
+}
+
+void run_fog_valley_scene(const Options& o, std::vector<BenchScene>& scenes, std::vector<Row>& rows, bool& failed) {
+    using fx::MediumMethod;
+    using fx::RenderPath;
+    const char* model = "emission-absorption";
+    run_scene_file(o, "fog-valley-scales", "fog valley at each resolution", "fog_valley.json",
+                   {{RenderPath::PcpExact, MediumMethod::Froxel, 1.0, model, 3},
+                    {RenderPath::PcpExact, MediumMethod::Froxel, 0.5, model, 3},
+                    {RenderPath::PcpExact, MediumMethod::Froxel, 0.25, model, 3}},
+                   scenes, rows, failed);
 }
 
 std::string cpu_name() {
@@ -860,9 +903,10 @@ int bench_accuracy(const std::vector<std::string>& args) {
     const std::vector<std::string> wanted = split_list(o.scenes);
     for (const std::string& item : wanted)
         if (item != "blunt-fin" && item != "fem" && item != "fog-above" && item != "fog-inside" && item != "campfire" &&
-            item != "searchlight" && item != "night-valley")
+            item != "searchlight" && item != "night-valley" && item != "fog-valley-scales")
             throw fx::Error("bench accuracy: --scenes: unknown scene '" + item +
-                            "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight, night-valley)");
+                            "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight, night-valley, "
+                            "fog-valley-scales)");
     std::filesystem::create_directories(o.out);
 
     const fx::HeadlessContext context;
@@ -876,7 +920,7 @@ int bench_accuracy(const std::vector<std::string>& args) {
 
     std::vector<BenchScene> scenes;
     for (const std::string& id : wanted) {
-        if (id == "night-valley") continue; // a scene of several volumes: run apart, below
+        if (id == "night-valley" || id == "fog-valley-scales") continue; // scene files: run apart, below
         const auto t0 = Clock::now();
         if (id == "blunt-fin") scenes.push_back(blunt_fin_scene(o.blunt_fin, o.quick));
         if (id == "fem") scenes.push_back(fem_scene(o.fem_cells));
@@ -890,6 +934,8 @@ int bench_accuracy(const std::vector<std::string>& args) {
     bool failed = false;
     for (BenchScene& s : scenes) run_scene(s, o, rows, failed);
     if (std::find(wanted.begin(), wanted.end(), "night-valley") != wanted.end()) run_night_valley(o, scenes, rows, failed);
+    if (std::find(wanted.begin(), wanted.end(), "fog-valley-scales") != wanted.end())
+        run_fog_valley_scene(o, scenes, rows, failed);
 
     std::ostringstream header;
     header << "Made by `" << o.command << "` on " << machine << "; " << o.frames

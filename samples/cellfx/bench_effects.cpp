@@ -30,15 +30,17 @@
 //
 // Options: --scenes a,b (all), --frames N (8, after 2 warm-up frames; 60 with --only-cpu), --size
 //          WxH (the scenes'), --paths a,b (all; the CPU rows: the scenes' own paths unless given),
-//          --skip-verify, --samples a,b (all five), --no-samples, --only-samples (skip the scene and
-//          CPU rows), --only-cpu (the CPU rows alone), --json FILE (the CPU rows as
-//          {"scenes": [{"scene", "path", "cellfx_cpu_ms": {"median", "p95"}, "driver_cpu_ms": ...,
-//          "allocations_per_frame", ...}]}).
+//          --fx-scale S[,S...] (the effects' resolution, 1, 0.5, 0.25: a row per scale; default the
+//          scenes' own), --medium froxel|exact (default the scenes'), --skip-verify, --samples a,b
+//          (all five), --no-samples, --only-samples (skip the scene and CPU rows), --only-cpu (the
+//          CPU rows alone), --json FILE: every row as {"scenes": [...]}, the scene rows with
+//          {"scene", "path", "fx_scale", "medium", "ms_per_frame", "gpu_ms", ...}, the CPU rows with
+//          {"scene", "path", "cellfx_cpu_ms": {"median", "p95"}, "driver_cpu_ms": {...},
+//          "allocations_per_frame", ...}.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -46,6 +48,7 @@
 #include <epoxy/gl.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_json.hpp"
 #include "bench_support.hpp"
 #include "cellfx/cellfx.hpp"
 #include "commands.hpp"
@@ -63,9 +66,9 @@
 
 namespace cellfx_cli {
 
-// bench_game_cpu.cpp: the CPU rows, returned as the JSON rows of --json.
-nlohmann::json bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames,
-                              int warmup, const ParsedArgs& parsed);
+// bench_game_cpu.cpp: the CPU rows, printed and appended to `json` (--json's rows).
+void bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames, int warmup,
+                    const ParsedArgs& parsed, std::vector<BenchJsonRow>& json);
 
 namespace {
 
@@ -107,20 +110,53 @@ Error compare(const fx::Image& a, const fx::Image& ref, bool clamp_to_8bit) {
 
 struct Row {
     std::string scene, path;
+    double fx_scale = 1.0;
+    std::string medium; // the method that ran ("-": no volumes overlapped)
     std::size_t cells = 0, noise = 0;
     double ms = 0, cpu = 0, gpu = 0, update = 0, upload = 0, surface = 0, effects = 0, composite = 0;
+    double medium_gpu = 0, medium_mb = 0;
+    int width = 0, height = 0, frames = 0;
     Error error;
     bool verified = false;
 };
 
 void print_row(const Row& r) {
-    std::printf("  %-12s %-17s %8zu %8zu %9.2f %8.1f %8.2f %9.2f %8.2f %8.2f %8.2f %9.2f %9.2f", r.scene.c_str(),
-                r.path.c_str(), r.cells, r.noise, r.ms, 1000.0 / r.ms, r.cpu, r.gpu, r.update, r.upload, r.surface, r.effects,
-                r.composite);
+    std::printf("  %-12s %-17s %5g %-6s %8zu %8zu %9.2f %8.1f %8.2f %9.2f %8.2f %8.2f %8.2f %9.2f %9.2f %8.2f %7.1f",
+                r.scene.c_str(), r.path.c_str(), r.fx_scale, r.medium.c_str(), r.cells, r.noise, r.ms, 1000.0 / r.ms, r.cpu,
+                r.gpu, r.update, r.upload, r.surface, r.effects, r.composite, r.medium_gpu, r.medium_mb);
     if (r.verified)
         std::printf(" %8.3f %8.2f\n", 100.0 * r.error.mean / r.error.peak, 100.0 * r.error.max / r.error.peak);
     else
         std::printf(" %8s %8s\n", "-", "-");
+}
+
+// A scene row as `--json` writes it.
+BenchJsonRow json_row(const Row& r) {
+    BenchJsonRow j;
+    j["scene"] = r.scene;
+    j["path"] = r.path;
+    j["fx_scale"] = r.fx_scale;
+    j["medium"] = r.medium;
+    j["width"] = r.width;
+    j["height"] = r.height;
+    j["frames"] = r.frames;
+    j["ms_per_frame"] = r.ms;
+    j["gpu_ms"] = r.gpu;
+    j["cpu_ms"] = r.cpu;
+    j["update_ms"] = r.update;
+    j["upload_ms"] = r.upload;
+    j["surface_gpu_ms"] = r.surface;
+    j["effects_gpu_ms"] = r.effects;
+    j["composite_gpu_ms"] = r.composite;
+    j["medium_gpu_ms"] = r.medium_gpu;
+    j["medium_mb"] = r.medium_mb;
+    j["cells"] = r.cells;
+    j["noise_samples"] = r.noise;
+    if (r.verified) {
+        j["error_mean_percent"] = 100.0 * r.error.mean / r.error.peak;
+        j["error_max_percent"] = 100.0 * r.error.max / r.error.peak;
+    }
+    return j;
 }
 
 // The samples' frame loops (see the header comment), one row per sample and path.
@@ -168,7 +204,7 @@ void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& 
 int bench_effects(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples", "only-cpu"});
     require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu",
-                           "json"});
+                           "fx-scale", "medium", "json"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
     const int frames = parse_int(parsed.get("frames", parsed.has("only-cpu") ? "60" : "8"), "--frames");
     if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
@@ -184,25 +220,27 @@ int bench_effects(const std::vector<std::string>& args) {
     } else {
         paths.assign(std::begin(fx::kRenderPaths), std::end(fx::kRenderPaths));
     }
+    // The effects' resolutions to run (none given: each scene's own) and the medium's method.
+    std::vector<double> scales;
+    for (const std::string& item : split_list(parsed.get("fx-scale"))) scales.push_back(parse_fx_scale(item));
+    const bool medium_given = parsed.has("medium");
+    const fx::MediumMethod medium = medium_given ? parse_medium_option(parsed.get("medium")) : fx::MediumMethod::Froxel;
     const bool verify = !parsed.has("skip-verify");
     constexpr double kDt = 1.0 / 30.0;
     constexpr int kWarmup = 2;
 
     const fx::HeadlessContext context;
-    // The CPU rows: the scenes' own paths unless --paths names some.
+    // The CPU rows: the scenes' own paths unless --paths names some. Every row goes to --json.
     const std::vector<std::string> cpu_paths = parsed.has("paths") ? split_list(parsed.get("paths")) : std::vector<std::string>();
-    nlohmann::json json_rows = nlohmann::json::array();
+    std::vector<BenchJsonRow> json;
     const auto write_json = [&] {
         if (!parsed.has("json")) return;
-        const std::string path = parsed.get("json");
-        std::ofstream out(path);
-        out << nlohmann::json{{"scenes", json_rows}}.dump(2) << '\n';
-        if (!out.flush()) throw fx::Error("bench effects: --json: cannot write " + path);
-        std::printf("  wrote %s\n", path.c_str());
+        write_scenes_json(parsed.get("json"), json);
+        std::printf("\n  wrote %s\n", parsed.get("json").c_str());
     };
     if (parsed.has("only-cpu")) {
         std::printf("effects: cellfx's CPU per frame in a game\n  gl: %s\n", context.description().c_str());
-        json_rows = bench_game_cpu(scenes, cpu_paths, frames, kWarmup, parsed);
+        bench_game_cpu(scenes, cpu_paths, frames, kWarmup, parsed, json);
         write_json();
         return 0;
     }
@@ -212,8 +250,9 @@ int bench_effects(const std::vector<std::string>& args) {
                 "  light 115.8 fps, campfire 51.3 fps (PCP, Table 4, window size not given); ground fog ~25 Hz PCP,\n"
                 "  > 50 Hz MIP at 512x384 (§5).\n",
                 kWarmup, frames, 1000.0 * kDt);
-    std::printf("\n  %-12s %-17s %8s %8s %9s %8s %8s %9s %8s %8s %8s %9s %9s %8s %8s\n", "scene", "path", "cells", "noise",
-                "ms/frame", "fps", "cpu ms", "gpu ms", "update", "upload", "surface", "effects", "composite", "mean %", "max %");
+    std::printf("\n  %-12s %-17s %5s %-6s %8s %8s %9s %8s %8s %9s %8s %8s %8s %9s %9s %8s %7s %8s %8s\n", "scene", "path",
+                "scale", "medium", "cells", "noise", "ms/frame", "fps", "cpu ms", "gpu ms", "update", "upload", "surface",
+                "effects", "composite", "medium", "MB", "mean %", "max %");
     std::vector<Row> rows;
     std::map<std::string, std::vector<terrain::EffectFrameStats>> last_effects;
     const std::vector<std::string> cpu_scenes = scenes;
@@ -221,8 +260,10 @@ int bench_effects(const std::vector<std::string>& args) {
     for (const std::string& name : scenes) {
         terrain::Scene scene = terrain::load_scene(std::string(CELLFX_SOURCE_DIR) + "/content/scenes/" + name + ".json");
         if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
+        if (medium_given) scene.medium = medium;
         const int w = scene.width, h = scene.height;
         const fx::Camera last_camera = camera_at(scene, kWarmup + frames - 1, kDt);
+        const std::vector<double> scene_scales = scales.empty() ? std::vector<double>{scene.fx_scale} : scales;
         // The same frames with every effect switched off: what the effects cost on top (the
         // terrain alone), and the picture that proves each path draws something.
         fx::Image bare;
@@ -244,16 +285,21 @@ int bench_effects(const std::vector<std::string>& args) {
             }
             row.ms = median(ms), row.cpu = median(cpu), row.gpu = median(gpu), row.update = median(update),
             row.surface = median(surface);
+            row.medium = "-", row.width = w, row.height = h, row.frames = frames;
             print_row(row);
+            json.push_back(json_row(row));
         }
         std::map<fx::RenderPath, fx::Image> references; // by the model a path draws with
-        for (fx::RenderPath path : paths) {
+        for (fx::RenderPath path : paths)
+        for (double scale : scene_scales) {
             terrain::SceneRenderer renderer(scene);
             for (const std::string& e : renderer.effect_names()) renderer.set_path(e, path);
+            renderer.set_fx_scale(scale);
             renderer.set_timing(true);
-            std::vector<double> ms, cpu, gpu, update, upload, surface, effects, composite;
+            std::vector<double> ms, cpu, gpu, update, upload, surface, effects, composite, medium_gpu;
             Row row;
-            row.scene = name, row.path = fx::render_path_name(path);
+            row.scene = name, row.path = fx::render_path_name(path), row.fx_scale = scale;
+            row.width = w, row.height = h, row.frames = frames, row.medium = "-";
             fx::Image frame;
             for (int f = 0; f < kWarmup + frames; ++f) {
                 const fx::Camera cam = camera_at(scene, f, kDt);
@@ -266,14 +312,17 @@ int bench_effects(const std::vector<std::string>& args) {
                 ms.push_back(s.frame_ms), cpu.push_back(s.update_cpu_ms + s.render_cpu_ms), gpu.push_back(s.gpu_ms),
                     update.push_back(s.update_ms), upload.push_back(s.upload_ms),
                     surface.push_back(std::max(s.surface_gpu_ms, 0.0)), effects.push_back(effect_gpu),
-                    composite.push_back(std::max(s.composite_gpu_ms, 0.0));
+                    composite.push_back(std::max(s.composite_gpu_ms, 0.0)), medium_gpu.push_back(std::max(s.medium.gpu_ms, 0.0));
                 row.cells = s.cells_drawn;
                 row.noise = s.noise_samples;
-                last_effects[name + " " + row.path] = s.effects;
+                if (s.medium.pixels > 0)
+                    row.medium = fx::medium_method_name(s.medium.method), row.medium_mb = double(s.medium.gpu_bytes) / 1e6;
+                if (scale == scene_scales.front()) last_effects[name + " " + row.path] = s.effects;
             }
             row.ms = median(ms), row.cpu = median(cpu), row.gpu = median(gpu), row.update = median(update),
             row.upload = median(upload);
             row.surface = median(surface), row.effects = median(effects), row.composite = median(composite);
+            row.medium_gpu = median(medium_gpu);
             // Verify the last timed frame: finite, and the effects visibly there.
             double changed = 0.0;
             for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
@@ -298,23 +347,29 @@ int bench_effects(const std::vector<std::string>& args) {
                 row.verified = true;
                 // Exact paths: the scan-line figures of the frame tests (≤ 0.05% of peak on average);
                 // here a generous 1% so only a wrong picture fails. The classic paths (pcp's 8-bit
-                // passes, absorption's per-cell vertex optics): 10%.
+                // passes, absorption's per-cell vertex optics), and frames at a reduced
+                // resolution or through the froxel grid (their detail blurred over a few pixels,
+                // docs/accuracy.md): 10%.
                 const bool classic = path == fx::RenderPath::Pcp || path == fx::RenderPath::Absorption;
-                const double bound = classic ? 0.10 : 0.01;
+                const bool approximate = classic || scale < 1.0 || row.medium == "froxel";
+                const double bound = approximate ? 0.10 : 0.01;
                 if (!row.error.finite || !(row.error.peak > 0.0) || row.error.mean > bound * row.error.peak)
                     throw fx::Error("bench effects: " + name + " [" + row.path + "]: the effects differ from the scan-line reference (mean " +
                                     std::to_string(100.0 * row.error.mean / std::max(row.error.peak, 1e-30)) + "% of peak)");
             }
             print_row(row);
             rows.push_back(row);
+            json.push_back(json_row(row));
         }
     }
     std::printf("\n  cells: drawn per frame (all effects); noise: samples evaluated per frame; ms/frame: wall time of\n"
                 "  update + render to glFinish; cpu: CPU time of update and render on the calling thread (cellfx and the\n"
                 "  driver's work there, waiting excluded; with GPU timing on: read the sample rows for a game's figure);\n"
                 "  gpu: sum of the stages' GL_TIME_ELAPSED; update: LOD + effect simulation\n"
-                "  (CPU); upload: set_mesh / set_scalars; surface / effects / composite: GPU ms; mean / max %%: the effects\n"
-                "  alone against the scan-line reference, in %% of its peak (pcp: against the reference clamped to 1).\n");
+                "  (CPU); upload: set_mesh / set_scalars; surface / effects / composite: GPU ms (composite: over the\n"
+                "  game's frame and the reduced layer's upsample); scale: the effects' resolution; medium: the method\n"
+                "  that integrated overlapping volumes, its GPU ms and MB; mean / max %%: the effects alone against\n"
+                "  the scan-line reference, in %% of its peak (pcp: against the reference clamped to 1).\n");
     std::printf("\n  last frame, per effect (pcp-exact where it ran):\n  %-12s %-14s %-12s %-11s %8s %8s %8s %9s %9s %9s\n",
                 "scene", "effect", "type", "status", "cells", "built", "noise", "sim ms", "upload ms", "gpu ms");
     for (const std::string& name : scenes) {
@@ -347,7 +402,7 @@ int bench_effects(const std::vector<std::string>& args) {
                     "  set_mesh %.3f ms, set_scalars %.3f ms\n", fire.mesh().cell_count(), median(mesh_ms), median(scalar_ms));
     }
     if (!parsed.has("no-samples")) bench_samples(parsed, paths, frames, kWarmup, kDt);
-    if (!parsed.has("only-samples")) json_rows = bench_game_cpu(cpu_scenes, cpu_paths, frames, kWarmup, parsed);
+    if (!parsed.has("only-samples")) bench_game_cpu(cpu_scenes, cpu_paths, frames, kWarmup, parsed, json);
     write_json();
     return 0;
 }

@@ -28,9 +28,9 @@
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
-#include <nlohmann/json.hpp>
 
 #include "allocation_counter.hpp"
+#include "bench_json.hpp"
 #include "bench_support.hpp"
 #include "cellfx/cellfx.hpp"
 #include "fx/error.hpp"
@@ -205,32 +205,42 @@ FlightRow fly(const std::string& name, const std::string& path_name, int frames,
     return row;
 }
 
-nlohmann::json spread_json(const Spread& s) { return {{"median", s.median}, {"p95", s.p95}}; }
+BenchJsonRow spread_json(const Spread& s) {
+    BenchJsonRow j;
+    j["median"] = s.median;
+    j["p95"] = s.p95;
+    return j;
+}
 
-nlohmann::json row_json(const FlightRow& r) {
-    nlohmann::json events = nlohmann::json::array();
-    for (const EventCost& e : r.events)
-        events.push_back({{"event", e.event},
-                          {"cellfx_cpu_ms", e.cost.cellfx()},
-                          {"driver_cpu_ms", e.cost.driver},
-                          {"allocations", e.cost.allocations}});
-    return {{"scene", r.scene},
-            {"path", r.path},
-            {"size", r.size},
-            {"frames", r.frames},
-            {"cellfx_cpu_ms", spread_json(r.cellfx)},
-            {"driver_cpu_ms", spread_json(r.driver)},
-            {"update_cpu_ms", spread_json(r.update)},
-            {"upload_cpu_ms", spread_json(r.uploads)},
-            {"allocations_per_frame", r.allocations},
-            {"prisms", r.prisms},
-            {"events", events}};
+BenchJsonRow row_json(const FlightRow& r) {
+    BenchJsonRow events = BenchJsonRow::array();
+    for (const EventCost& e : r.events) {
+        BenchJsonRow event;
+        event["event"] = e.event;
+        event["cellfx_cpu_ms"] = e.cost.cellfx();
+        event["driver_cpu_ms"] = e.cost.driver;
+        event["allocations"] = e.cost.allocations;
+        events.push_back(event);
+    }
+    BenchJsonRow j;
+    j["scene"] = r.scene;
+    j["path"] = r.path;
+    j["size"] = r.size;
+    j["frames"] = r.frames;
+    j["cellfx_cpu_ms"] = spread_json(r.cellfx);
+    j["driver_cpu_ms"] = spread_json(r.driver);
+    j["update_cpu_ms"] = spread_json(r.update);
+    j["upload_cpu_ms"] = spread_json(r.uploads);
+    j["allocations_per_frame"] = r.allocations;
+    j["prisms"] = r.prisms;
+    j["events"] = events;
+    return j;
 }
 
 } // namespace
 
-nlohmann::json bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames,
-                              int warmup, const ParsedArgs& parsed) {
+void bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames, int warmup,
+                    const ParsedArgs& parsed, std::vector<BenchJsonRow>& json) {
     std::printf("\n  CPU per frame in a game: cellfx::Module update + render over a game's RGBA8 + DEPTH24 frame, the\n"
                 "  camera flying, thread CPU ms (waiting excluded), median / 95th percentile of %d steady frames\n",
                 frames);
@@ -273,9 +283,7 @@ nlohmann::json bench_game_cpu(const std::vector<std::string>& scenes, const std:
                 "  buffer and texture writes; allocs: the most C++ allocations of any steady frame; prisms: fog and\n"
                 "  aurora prisms drawn. The frame's GL state save + restore (StateGuard): %.3f ms.\n",
                 median(guard));
-    nlohmann::json json_rows = nlohmann::json::array();
-    for (const FlightRow& r : rows) json_rows.push_back(row_json(r));
-    return json_rows;
+    for (const FlightRow& r : rows) json.push_back(row_json(r));
 }
 
 } // namespace cellfx_cli

@@ -29,6 +29,8 @@ int bench_absorption(const std::vector<std::string>& args);
 int bench_effects(const std::vector<std::string>& args);
 // `cellfx bench accuracy`: every path and flavour, ms per frame against error (CSV, Markdown, plot).
 int bench_accuracy(const std::vector<std::string>& args);
+// `cellfx bench flicker`: frame-to-frame change along depth edges at each fx scale, along a flight.
+int bench_flicker(const std::vector<std::string>& args);
 
 // `cellfx bench render`: every path on an orbit around a user's mesh, checked, for peers to rerun.
 int bench_render(const std::vector<std::string>& args);

@@ -8,6 +8,7 @@
 
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
+#include "terrain/scene.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -58,6 +59,20 @@ double parse_double(const std::string& text, const std::string& what) {
         throw fx::Error(what + ": '" + text + "' is not a finite number");
     }
     return v;
+}
+
+double parse_fx_scale(const std::string& text) {
+    const double scale = text == "1/2" ? 0.5 : text == "1/4" ? 0.25 : parse_double(text, "--fx-scale");
+    if (!terrain::valid_fx_scale(scale))
+        throw fx::Error("--fx-scale: '" + text + "' must be 1, 0.5 or 0.25 (the effects' resolution: full, half, quarter)");
+    return scale;
+}
+
+fx::MediumMethod parse_medium_option(const std::string& text) {
+    fx::MediumMethod method;
+    if (!fx::parse_medium_method(text, method))
+        throw fx::Error("--medium: unknown method '" + text + "' (expected froxel or exact)");
+    return method;
 }
 
 int parse_int(const std::string& text, const std::string& what) {

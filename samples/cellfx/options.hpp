@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include "cellfx_names.hpp"
+#include "fx/medium.hpp"
 
 namespace cellfx_cli {
 
@@ -26,6 +27,10 @@ double parse_double(const std::string& text, const std::string& what);
 int parse_int(const std::string& text, const std::string& what);
 // "WxH", each in 1..16384 and width × height within the image-pixels limit.
 void parse_size(const std::string& text, int& width, int& height);
+// --fx-scale: "1", "0.5" (or "1/2"), "0.25" (or "1/4").
+double parse_fx_scale(const std::string& text);
+// --medium: "froxel" or "exact".
+fx::MediumMethod parse_medium_option(const std::string& text);
 // A comma-separated list ("fire,beam"), empty items dropped.
 std::vector<std::string> split_list(const std::string& list);
 glm::dvec3 parse_vec3(const std::string& text, const std::string& what);

@@ -82,12 +82,17 @@ constexpr const char* kUsage =
     "  --disable A,B      switch these effects off; --only A,B switches all others off\n"
     "  --no-terrain       do not draw the terrain surface (it still carries the fog)\n"
     "  --size WxH         override the scene's image size\n"
-    "  --pixel-error PX   override the LOD's screen-space error bound";
+    "  --pixel-error PX   override the LOD's screen-space error bound\n"
+    "  --fx-scale S       the effects' resolution: 1, 0.5 or 0.25 of the image's (default: the scene's\n"
+    "                     render.fx_scale), upsampled against the scene's depth\n"
+    "  --medium NAME      where volumes overlap: froxel (bounded grid) or exact (per-pixel segment\n"
+    "                     lists; default: the scene's render.medium)";
 
 // `cellfx render SCENE.json`: a scene (terrain/scene.hpp: terrain, fog, aurora, effects) in a
 // headless context, through the same SceneRenderer a game uses.
 int render_scene_file(const ParsedArgs& parsed) {
-    require_known(parsed, {"path", "camera", "size", "pixel-error", "out", "time", "disable", "only", "no-terrain", "threads"});
+    require_known(parsed, {"path", "camera", "size", "pixel-error", "out", "time", "disable", "only", "no-terrain", "threads",
+                           "fx-scale", "medium"});
     if (parsed.positional.size() != 1) throw fx::Error("expected one SCENE.json");
     const std::string out = parsed.get("out");
     if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
@@ -105,6 +110,8 @@ int render_scene_file(const ParsedArgs& parsed) {
         if (!(scene.pixel_error > 0.0)) throw fx::Error("--pixel-error must be positive");
     }
     if (parsed.has("no-terrain")) scene.draw_terrain = false;
+    if (parsed.has("fx-scale")) scene.fx_scale = parse_fx_scale(parsed.get("fx-scale"));
+    if (parsed.has("medium")) scene.medium = parse_medium_option(parsed.get("medium"));
     const fx::HeadlessContext context;
     terrain::SceneRenderer renderer(scene);
     const bool reference = parsed.get("path") == "scanline";
@@ -154,10 +161,16 @@ int render_scene_file(const ParsedArgs& parsed) {
     if (renderer.scene().has_terrain() && renderer.terrain_drawn())
         std::printf("  %-22s %10zu of %zu at full resolution\n", "terrain triangles", stats.terrain_lod.triangles,
                     renderer.terrain_lod().full_resolution_triangles());
-    if (stats.medium.pixels > 0)
-        std::printf("  %-22s %10zu px, %zu segments (pool %zu, %zu redraws), %zu volumes, gpu %.2f ms (append %.2f, resolve %.2f)\n",
-                    "one medium", stats.medium.pixels, stats.medium.segments, stats.medium.capacity, stats.medium.redraws,
-                    stats.medium.volumes, stats.medium.gpu_ms, stats.medium.append_gpu_ms, stats.medium.resolve_gpu_ms);
+    if (renderer.fx_scale() < 1.0) std::printf("  %-22s %10g of the image's resolution\n", "effects at", renderer.fx_scale());
+    if (stats.medium.pixels > 0 && stats.medium.method == fx::MediumMethod::Exact)
+        std::printf("  %-22s %10zu px, %zu segments (pool %zu, %zu redraws), %zu volumes, gpu %.2f ms (append %.2f, resolve %.2f), %.1f MB\n",
+                    "one medium, exact", stats.medium.pixels, stats.medium.segments, stats.medium.capacity, stats.medium.redraws,
+                    stats.medium.volumes, stats.medium.gpu_ms, stats.medium.append_gpu_ms, stats.medium.resolve_gpu_ms,
+                    double(stats.medium.gpu_bytes) / 1e6);
+    if (stats.medium.pixels > 0 && stats.medium.method == fx::MediumMethod::Froxel)
+        std::printf("  %-22s %10zu froxels, %zu volumes, gpu %.2f ms (inject %.2f, light + integrate + apply + emission %.2f), %.1f MB\n",
+                    "one medium, froxel", stats.medium.froxels, stats.medium.volumes, stats.medium.gpu_ms,
+                    stats.medium.append_gpu_ms, stats.medium.resolve_gpu_ms, double(stats.medium.gpu_bytes) / 1e6);
     std::printf("  %-10s %-12s %-11s %-16s %8s %8s %8s %9s %9s %9s\n", "effect", "type", "status", "path", "cells",
                 "built", "drawn", "noise", "sim ms", "gpu ms");
     for (const terrain::EffectFrameStats& e : stats.effects)

@@ -41,6 +41,8 @@ public:
     // the words. CPU only.
     std::uint32_t* add(std::uint32_t at, std::uint32_t words, std::uint32_t stamp_index = kNoStamp);
     std::size_t size() const { return count_; }
+    // Room for this many records (then a frame of no more allocates nothing).
+    void reserve(std::size_t records);
 
     // Uploads the records and writes them into `target` (a buffer name), setting the named stamps
     // of `stamps` (0: none) to `stamp`. Saves and restores the GL state it touches.

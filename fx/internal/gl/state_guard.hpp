@@ -23,6 +23,7 @@
 //     multisample array — glBindTextureUnit(unit, 0) unbinds them all) and the sampler binding;
 //   - uniform and shader storage buffers: generic bindings and indexed bindings 0..kUnits-1
 //     (buffer, offset, size);
+//   - image units 0..kImageUnits-1: texture, level, layered, layer, access and format;
 //   - pixel pack/unpack buffer bindings and pack/unpack alignment, row length, skip pixels/rows,
 //     image height (+ unpack skip images).
 // Render paths must not touch GL state outside this list (extend the list first).
@@ -43,6 +44,7 @@ class StateGuard {
 public:
     static constexpr int kUnits = 16;       // texture units / indexed buffer bindings saved (the projector uses 0–14)
     static constexpr int kTextureTargets = 11;
+    static constexpr int kImageUnits = 2;   // image units saved (the froxel medium binds 0–1)
     static constexpr int kDrawBuffers = 8;  // indexed blend/colour-mask state saved (≤ GL max)
     static constexpr int kViewports = 16;   // indexed viewport/scissor/depth-range state saved (≤ GL max)
     static constexpr int kClipDistances = 8;
@@ -70,6 +72,10 @@ private:
     struct IndexedBuffer {
         GLint buffer = 0;
         GLint64 start = 0, size = 0;
+    };
+    struct ImageBinding {
+        GLint texture = 0, level = 0, layer = 0, access = GL_READ_ONLY, format = GL_R8;
+        GLboolean layered = GL_FALSE;
     };
     struct DrawBufferState {
         GLboolean blend = GL_FALSE;
@@ -101,6 +107,7 @@ private:
     std::array<GLint, kUnits> samplers_{};
     GLint uniform_buffer_ = 0, storage_buffer_ = 0;
     std::array<IndexedBuffer, kUnits> uniform_buffers_{}, storage_buffers_{};
+    std::array<ImageBinding, kImageUnits> images_{};
     GLint pack_buffer_ = 0, unpack_buffer_ = 0;
     std::array<GLint, 5> pack_{};   // alignment, row length, skip pixels, skip rows, image height
     std::array<GLint, 6> unpack_{}; // the same + skip images

@@ -39,6 +39,11 @@ std::uint32_t* ScatterPass::add(std::uint32_t at, std::uint32_t words, std::uint
     return records_.data() + base + 4;
 }
 
+void ScatterPass::reserve(std::size_t records) {
+    const std::size_t words = records * (4 + words_per_record_);
+    if (records_.capacity() < words) records_.reserve(words + words / 2);
+}
+
 void ScatterPass::run(GLuint target, GLuint stamps, std::uint32_t stamp) {
     if (count_ == 0) return;
     staging_.upload(records_.data(), records_.size() * 4);

@@ -155,6 +155,17 @@ StateGuard::StateGuard() {
     save_indexed(GL_UNIFORM_BUFFER, kUnits, uniform_buffers_);
     save_indexed(GL_SHADER_STORAGE_BUFFER, kUnits, storage_buffers_);
 
+    for (int i = 0; i < kImageUnits; ++i) {
+        const auto u = static_cast<GLuint>(i);
+        ImageBinding& b = images_[i];
+        glGetIntegeri_v(GL_IMAGE_BINDING_NAME, u, &b.texture);
+        glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, u, &b.level);
+        glGetBooleani_v(GL_IMAGE_BINDING_LAYERED, u, &b.layered);
+        glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, u, &b.layer);
+        glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, u, &b.access);
+        glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, u, &b.format);
+    }
+
     pack_buffer_ = get_int(GL_PIXEL_PACK_BUFFER_BINDING);
     unpack_buffer_ = get_int(GL_PIXEL_UNPACK_BUFFER_BINDING);
     for (int i = 0; i < 5; ++i)
@@ -222,6 +233,12 @@ StateGuard::~StateGuard() {
 
     restore_indexed(GL_UNIFORM_BUFFER, kUnits, uniform_buffers_, uniform_buffer_);
     restore_indexed(GL_SHADER_STORAGE_BUFFER, kUnits, storage_buffers_, storage_buffer_);
+
+    for (int i = 0; i < kImageUnits; ++i) {
+        const ImageBinding& b = images_[i];
+        glBindImageTexture(static_cast<GLuint>(i), static_cast<GLuint>(b.texture), b.level, b.layered, b.layer,
+                           static_cast<GLenum>(b.access), static_cast<GLenum>(b.format));
+    }
 
     glBindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(pack_buffer_));
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer_));

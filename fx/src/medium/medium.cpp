@@ -59,6 +59,15 @@ double distance2_to_segment(const glm::dvec3& p, const RaySpan& span, double t0,
 
 } // namespace
 
+const char* medium_method_name(MediumMethod method) { return method == MediumMethod::Froxel ? "froxel" : "exact"; }
+
+bool parse_medium_method(std::string_view name, MediumMethod& method) {
+    if (name == "froxel") method = MediumMethod::Froxel;
+    else if (name == "exact") method = MediumMethod::Exact;
+    else return false;
+    return true;
+}
+
 double henyey_greenstein(double g, double mu) {
     const double d = std::max(1.0 + g * g - 2.0 * g * mu, 1e-12);
     return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));

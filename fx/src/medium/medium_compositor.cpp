@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
@@ -163,15 +164,22 @@ void MediumCompositor::Impl::upload_tables() {
 
 void MediumCompositor::Impl::set_resolve_uniforms() {
     const GLuint p = resolve_program.id();
+    // The pixel rays from the view's projection (an explicit one included, as the appends'
+    // fragment rays): the points of the near plane at ndc (0, 0), (1, 0) and (0, 1), eye-relative.
     const glm::dvec3 forward = camera.forward();
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
-    const glm::dvec3 up = glm::cross(right, forward);
-    const double aspect = double(viewport.width) / double(viewport.height);
-    const double half = camera.orthographic() ? 0.5 * camera.ortho_height
-                                              : std::tan(0.5 * camera.fov_y_degrees * 0.017453292519943295);
-    glProgramUniform3fv(p, kForward, 1, glm::value_ptr(vec3f(forward)));
-    glProgramUniform3fv(p, kRight, 1, glm::value_ptr(vec3f(right * (half * aspect))));
-    glProgramUniform3fv(p, kUp, 1, glm::value_ptr(vec3f(up * half)));
+    const Camera relative = camera_in_frame(camera, glm::translate(glm::dmat4(1.0), camera.eye));
+    const glm::dmat4 from_clip =
+        glm::inverse(camera.projection_matrix(double(viewport.width) / double(viewport.height)) * relative.view_matrix());
+    const auto near_point = [&](double x, double y) {
+        const glm::dvec4 q = from_clip * glm::dvec4(x, y, -1.0, 1.0);
+        return glm::dvec3(q) / q.w;
+    };
+    const glm::dvec3 centre = near_point(0.0, 0.0), right = near_point(1.0, 0.0) - centre, up = near_point(0.0, 1.0) - centre;
+    // Perspective: direction = normalize(centre + ndc.x·right + ndc.y·up); orthographic: origin
+    // ndc.x·right + ndc.y·up on the eye plane, direction forward.
+    glProgramUniform3fv(p, kForward, 1, glm::value_ptr(vec3f(camera.orthographic() ? forward : centre)));
+    glProgramUniform3fv(p, kRight, 1, glm::value_ptr(vec3f(right)));
+    glProgramUniform3fv(p, kUp, 1, glm::value_ptr(vec3f(up)));
     glProgramUniform1i(p, kOrtho, camera.orthographic() ? 1 : 0);
     glProgramUniform4f(p, kViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
     glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
@@ -391,6 +399,7 @@ MediumStats MediumCompositor::resolve(unsigned behind_texture) {
         gl::StateGuard::set_render_defaults();
     }
     m.stats.capacity = m.capacity;
+    m.stats.gpu_bytes = gpu_bytes();
 
     gl::StateGuard::set_render_defaults();
     m.timed_begin();

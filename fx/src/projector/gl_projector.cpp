@@ -249,6 +249,8 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
     }
     point_scatter_->clear();
     cell_scatter_->clear();
+    point_scatter_->reserve(np); // at most every point and cell changes: a steady frame allocates nothing
+    cell_scatter_->reserve(nc);
     for (std::uint32_t p : changes.points) {
         const glm::dvec3& q = source.points[p];
         if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))

@@ -79,6 +79,7 @@
 #include "fx/effect.hpp"
 #include "fx/error.hpp"
 #include "fx/laser_cone.hpp"
+#include "fx/medium.hpp"
 #include "fx/parallel_for.hpp"
 #include "fx/search_light.hpp"
 #include "fx/transfer_function.hpp"
@@ -125,6 +126,12 @@ struct Config {
     std::optional<Scene> scene;        // a scene built in code
     int width = 0, height = 0;         // the first frames' viewport size (0: the scene's render size)
     std::optional<bool> draw_terrain;  // override the scene's "terrain.draw"
+    // Override the scene's "render.fx_scale": every effect and the one medium at 1, 0.5 or 0.25
+    // of the viewport's resolution, upsampled against the game's depth (edges stay sharp).
+    std::optional<double> fx_scale;
+    // Override the scene's "render.medium": froxel (bounded cost and memory, the default) or
+    // exact (per-pixel segment lists: the reference grade) where volumes overlap.
+    std::optional<fx::MediumMethod> medium;
     WorldUp world_up = WorldUp::Z;
     fx::ParallelFor parallel_for;      // the host's job system (none: update() on the calling thread, the
                                        // render paths' CPU work on cellfx's own pool, started once)
@@ -240,6 +247,13 @@ public:
     void set_terrain_drawn(bool drawn); // throws for a scene without terrain
     Status try_set_terrain_drawn(bool drawn) noexcept;
     bool terrain_drawn() const noexcept;
+    // Quality at run time, kept across reload(): the effects' resolution (1, 0.5 or 0.25; throws
+    // for another value) and how overlapping volumes are integrated (Config's fields).
+    void set_fx_scale(double scale);
+    Status try_set_fx_scale(double scale) noexcept;
+    double fx_scale() const noexcept;
+    void set_medium_method(fx::MediumMethod method);
+    fx::MediumMethod medium_method() const noexcept;
 
     // Tools and benchmarks: GPU timing, LOD error bound, background of whole frames.
     terrain::SceneRenderer& renderer();

@@ -39,7 +39,8 @@
 //       "camera":   {"eye": [x, y, z], "target": [x, y, z], "up": [0, 0, 1], "fov": 50,
 //                    "near": 5, "far": 60000},
 //       "camera_path": {"loop": false, "keys": [{"time": 0, "eye": [x, y, z], "target": [x, y, z]}, ...]},
-//       "render":   {"width": 1024, "height": 768, "background": [r, g, b]},
+//       "render":   {"width": 1024, "height": 768, "background": [r, g, b],
+//                    "fx_scale": 1 | 0.5 | 0.25, "medium": "froxel" | "exact"},
 //       "surface":  {"sun": [x, y, z], "ambient": 0.35, "ramp": [[0, [r, g, b]], ..., [1, [r, g, b]]]}
 //     }
 //     NOISE = {"amplitude": 40, "offset": 0, "frequency": 0.002, "octaves": 4, "lacunarity": 2,
@@ -67,6 +68,7 @@
 #include "fx/campfire.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/laser_cone.hpp"
+#include "fx/medium.hpp"
 #include "fx/search_light.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/volume.hpp"
@@ -161,6 +163,9 @@ struct CameraPath {
     fx::Camera at(double t, const fx::Camera& base) const;
 };
 
+// The effects' resolution as a fraction of the view's (Scene::fx_scale): 1, 0.5 or 0.25.
+inline bool valid_fx_scale(double scale) { return scale == 1.0 || scale == 0.5 || scale == 0.25; }
+
 struct Scene {
     std::string source;               // the file it came from ("" for scenes built in code)
     std::string description;
@@ -176,6 +181,11 @@ struct Scene {
     std::optional<CameraPath> camera_path;
     int width = 1024, height = 768;
     glm::dvec3 background{0.55, 0.66, 0.80};
+    // Every effect path and the one medium draw at this fraction of the view's resolution (1,
+    // 0.5 or 0.25), upsampled against the scene's depth (docs/effects.md, "Resolution").
+    double fx_scale = 1.0;
+    // How volumes that overlap on screen are integrated as one medium (fx/medium.hpp).
+    fx::MediumMethod medium = fx::MediumMethod::Froxel;
     SurfaceStyle surface;
 
     bool has_terrain() const { return ground.size > 0; }

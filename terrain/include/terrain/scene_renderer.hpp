@@ -174,6 +174,10 @@ public:
     const FrameStats& render(const fx::Camera& camera, const fx::Viewport& viewport, bool finish = false);
     // The same frame read back: premultiplied RGBA floats, alpha 1, bottom row first.
     fx::Image render_to_image(const fx::Camera& camera, int width, int height, FrameStats* stats = nullptr);
+    // The scene depth of the last whole frame (the terrain's and the game's, as the effects were
+    // stopped by it): window depth of the camera's standard projection in r, bottom row first;
+    // empty before the first one. For tools (where depth edges lie).
+    fx::Image depth_image() const;
 
     // --- control ---------------------------------------------------------------------------
     std::vector<std::string> effect_names() const; // "fog", "aurora", then scene.effects
@@ -221,6 +225,15 @@ public:
     void set_parallel_for(const fx::ParallelFor& parallel_for);
     double time() const;
     void set_time(double seconds); // the clock, e.g. for a camera path; throws for non-finite
+
+    // The effects' resolution, a fraction of the view's: 1, 0.5 or 0.25 (scene.fx_scale to start
+    // with; docs/effects.md, "Resolution"). Throws fx::Error for another value.
+    void set_fx_scale(double scale);
+    double fx_scale() const;
+    // How volumes that overlap on screen are integrated (scene.medium to start with): the
+    // bounded froxel grid or the exact per-pixel segment lists (fx/medium.hpp).
+    void set_medium_method(fx::MediumMethod method);
+    fx::MediumMethod medium_method() const;
 
     // Overrides of the scene's choices (tools, benchmarks).
     void set_fog_path(fx::RenderPath path);    // no-op without fog

@@ -94,6 +94,8 @@ struct Module::State {
     glm::dmat4 scene_from_world{1.0}, world_from_scene{1.0};
     std::optional<bool> draw_terrain; // Config's override of the scene file
     std::optional<bool> terrain_choice;
+    std::optional<double> fx_scale;          // Config's or set_fx_scale's, kept across reloads
+    std::optional<fx::MediumMethod> medium;  // the same
     std::vector<Choice> choices;
 
     State(const Scene& scene, int w, int h) : renderer(scene), width(w), height(h) {}
@@ -118,6 +120,10 @@ void Module::init(const Config& config) {
     else if (config.scene) scene = *config.scene;
     else throw fx::Error("cellfx init: give a scene file or a scene");
     if (config.draw_terrain) scene.draw_terrain = *config.draw_terrain;
+    if (config.fx_scale && !terrain::valid_fx_scale(*config.fx_scale))
+        throw fx::Error("cellfx init: Config::fx_scale " + std::to_string(*config.fx_scale) + ": must be 1, 0.5 or 0.25");
+    if (config.fx_scale) scene.fx_scale = *config.fx_scale;
+    if (config.medium) scene.medium = *config.medium;
     if ((config.width > 0) != (config.height > 0) || config.width < 0 || config.height < 0)
         throw fx::Error("cellfx init: give both width and height (or neither)");
     const int w = config.width > 0 ? config.width : scene.width, h = config.height > 0 ? config.height : scene.height;
@@ -125,6 +131,8 @@ void Module::init(const Config& config) {
     state->scene_from_world = scene_from_world(config.world_up);
     state->world_from_scene = glm::inverse(state->scene_from_world);
     state->draw_terrain = config.draw_terrain;
+    state->fx_scale = config.fx_scale;
+    state->medium = config.medium;
     state->renderer.set_parallel_for(config.parallel_for);
     state_ = std::move(state);
 }
@@ -181,6 +189,8 @@ void Module::reload(const Scene& new_scene) {
     State& s = ready();
     Scene scene = new_scene;
     if (s.draw_terrain) scene.draw_terrain = *s.draw_terrain;
+    if (s.fx_scale) scene.fx_scale = *s.fx_scale;
+    if (s.medium) scene.medium = *s.medium;
     terrain::SceneRenderer fresh(scene);
     terrain::SceneRenderer& old = s.renderer;
     fresh.set_time(old.time());
@@ -237,6 +247,20 @@ void Module::set_terrain_drawn(bool drawn) {
     s.terrain_choice = drawn;
 }
 bool Module::terrain_drawn() const noexcept { return state_ && state_->renderer.terrain_drawn(); }
+void Module::set_fx_scale(double scale) {
+    State& s = ready();
+    s.renderer.set_fx_scale(scale);
+    s.fx_scale = scale;
+}
+double Module::fx_scale() const noexcept { return state_ ? state_->renderer.fx_scale() : 1.0; }
+void Module::set_medium_method(fx::MediumMethod method) {
+    State& s = ready();
+    s.renderer.set_medium_method(method);
+    s.medium = method;
+}
+fx::MediumMethod Module::medium_method() const noexcept {
+    return state_ ? state_->renderer.medium_method() : fx::MediumMethod::Froxel;
+}
 terrain::SceneRenderer& Module::renderer() { return ready().renderer; }
 
 // The non-throwing forms.
@@ -270,5 +294,6 @@ Status Module::try_set_parent_transform(const std::string& name, const glm::dmat
     return attempt([&] { set_parent_transform(name, world_from_object); });
 }
 Status Module::try_set_terrain_drawn(bool drawn) noexcept { return attempt([&] { set_terrain_drawn(drawn); }); }
+Status Module::try_set_fx_scale(double scale) noexcept { return attempt([&] { set_fx_scale(scale); }); }
 
 } // namespace cellfx

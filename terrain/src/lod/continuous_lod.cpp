@@ -259,8 +259,8 @@ struct ContinuousLod::Impl {
             nodes[s].state &= std::uint8_t(~kMorph);
             margin = split ? (settings.geomorph ? 0.5 - f : 1.0 - f) : f - 1.0;
         }
-        const bool morphing = nodes[s].state & kMorph;
-        morphing_count = morphing_count + (morphing ? 1 : 0) - (was_morphing ? 1 : 0);
+        const bool now_morphing = nodes[s].state & kMorph;
+        morphing_count = morphing_count + (now_morphing ? 1 : 0) - (was_morphing ? 1 : 0);
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
         const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
         const Wake w{odometer + travel, s, ++nodes[s].generation};
@@ -466,6 +466,21 @@ struct ContinuousLod::Impl {
         fan_slot_changed(std::size_t(nodes[s].fan));
     }
 
+    // ---- storage ----
+    // Room for the most a frame of this tree can list (a steady frame allocates nothing however
+    // its work varies): a node is a candidate and has a wake-up once, a live node touches at most
+    // 8 vertices and 1 fan. Grown with the tree only.
+    std::size_t reserved_live = 0;
+    void reserve_for_tree() {
+        const std::size_t tree = std::max(live, std::size_t(1024));
+        if (tree <= reserved_live) return;
+        reserved_live = tree + tree / 2;
+        for (auto& list : candidates) list.reserve(reserved_live);
+        morph_wakes.reserve(2 * reserved_live);
+        changes.vertices.reserve(8 * reserved_live);
+        changes.fans.reserve(reserved_live);
+    }
+
     // ---- one update ----
     void finish_update() {
         for (int l = kLevels - 1; l >= 0; --l) {
@@ -649,6 +664,7 @@ LodStats ContinuousLod::update(const LodView& view) {
     m.changes.fans_before = m.fans.size();
     m.changes.fans.clear();
     m.changes.vertices.clear();
+    m.reserve_for_tree();
 
     const bool same_view = m.have_state && view.projection_scale == m.last_view.projection_scale &&
                            view.pixel_error == m.last_view.pixel_error &&

@@ -259,6 +259,10 @@ bool LayerPrismTracker::update(const TerrainLod& lod, const LayerPrismOptions& o
     out.blocks[0].first_cell = 0, out.blocks[0].dims = {0, 0, 0};
     ++update_count_;
     changes.oriented = true; // prisms on counter-clockwise triangles, grown upwards
+    // Room for every point and cell to be listed (twice for cells: removed ones are listed before
+    // they go), so a steady frame allocates nothing however much changes.
+    if (changes.points.capacity() < out.points.size() + 64) changes.points.reserve(2 * out.points.size() + 64);
+    if (changes.cells.capacity() < 2 * out.cell_count() + 64) changes.cells.reserve(3 * out.cell_count() + 64);
     const LodChanges& c = l.changes();
     if (built_ != &lod || version_ + 1 != lod.version() || c.full || out.scalars[0].values.size() != out.points.size()) {
         build_whole(l, options, out, changes);

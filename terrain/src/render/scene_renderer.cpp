@@ -21,7 +21,9 @@
 #include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
 #include "gl/state_guard.hpp"
+#include "medium/froxel_medium.hpp"
 #include "render/depth_normalizer.hpp"
+#include "render/fx_layer.hpp"
 #include "render/scene_medium.hpp"
 #include "terrain/layer_effects.hpp"
 #include "terrain/terrain_lod.hpp"
@@ -215,16 +217,21 @@ struct SceneRenderer::Impl {
     std::vector<Slot*> to_update, order; // per frame, capacity kept
 
     fx::gl::RenderTarget target; // colour + depth, when the surface is drawn or the frame is opaque
+    fx::gl::Framebuffer target_color; // its colour alone: drawn into while its depth is read
     fx::gl::CompositePass composite;
     DepthNormalizer depth;
     fx::gl::Query surface_timer, composite_timer;
-    std::optional<fx::MediumCompositor> medium; // made on the first frame whose volumes overlap
-    fx::gl::Texture behind;                     // the frame behind the medium's region
+    std::optional<fx::MediumCompositor> medium; // exact: made on the first frame whose volumes overlap
+    std::optional<fx::FroxelMedium> froxels;    // froxel: the same
+    fx::gl::Texture behind;                     // exact: the frame behind the medium's region
     int behind_width = 0, behind_height = 0;
+    std::optional<FxLayer> layer;               // the effects at scene.fx_scale < 1
+    fx::Camera draw_camera;                     // the camera the effects draw with this frame
     // The frame's medium, kept so that a steady frame reuses their storage.
-    std::vector<Slot*> medium_slots, appended;
+    std::vector<Slot*> medium_slots, appended;  // appended: the volumes that reach the region
+    int appended_bulk = -1;                     // the ground fog among them (exact: binned), −1: none
     std::vector<MediumCandidate> candidates;
-    std::vector<fx::MediumVolume> volumes;
+    std::vector<fx::MediumVolume> volumes;      // of the appended volumes
     MediumPlan plan;
 
     explicit Impl(const Scene& s) : scene(s), draw_terrain(s.draw_terrain && s.has_terrain()) {
@@ -463,7 +470,7 @@ struct SceneRenderer::Impl {
         options.scene_depth = scene_depth;
         options.timing = timing;
         const fx::CellRenderStats r =
-            s.renderer->render(fx::camera_in_frame(camera, s.effect->transform()), viewport, s.path, options);
+            s.renderer->render(fx::camera_in_frame(draw_camera, s.effect->transform()), viewport, s.path, options);
         s.stats.render = r;
         s.stats.cells_drawn = r.cells_drawn;
         s.stats.draw_ms = r.cpu_ms;
@@ -491,8 +498,8 @@ struct SceneRenderer::Impl {
     }
 
     // The volumes of the emission–absorption paths and where they overlap on screen (`plan`),
-    // from their bounds.
-    void plan_frame_medium(const std::vector<Slot*>& drawn) {
+    // from their bounds, in the pixels of the effects' size.
+    void plan_frame_medium(const std::vector<Slot*>& drawn, const glm::ivec2& size) {
         medium_slots.clear();
         std::size_t n = 0;
         for (Slot* s : drawn) {
@@ -514,32 +521,78 @@ struct SceneRenderer::Impl {
             medium_slots.push_back(s);
         }
         candidates.resize(n);
-        plan_medium(candidates, camera, width, height, plan);
-    }
-
-    // The region of the plan: every volume that reaches it appended, the lists integrated over
-    // the frame behind them (the own target).
-    void draw_medium(GLuint scene_depth) {
-        if (!medium) medium.emplace();
+        plan_medium(candidates, draw_camera, size.x, size.y, plan);
+        // The volumes that reach the region, with their media (storage reused frame to frame).
         appended.clear();
-        int bulk = -1; // the ground fog, binned between the other volumes' boundaries
+        appended_bulk = -1;
+        if (plan.region.empty()) return;
         for (std::size_t i = 0; i < medium_slots.size(); ++i) { // at most kMaxVolumes (plan_medium)
             if (!plan.appended[i]) continue;
-            if (medium_slots[i]->kind == Kind::Fog) bulk = int(appended.size());
+            if (medium_slots[i]->kind == Kind::Fog) appended_bulk = int(appended.size());
             if (volumes.size() <= appended.size()) volumes.emplace_back();
             set_medium_volume(*medium_slots[i], volumes[appended.size()]);
             appended.push_back(medium_slots[i]);
         }
         volumes.resize(appended.size());
-        target.bind_for_drawing();
-        medium->begin(camera, fx::Viewport{0, 0, width, height}, plan.region, volumes, bulk, timing);
+    }
+
+    // The appended volume's figures: drawn as one medium.
+    void count_in_medium(Slot& s) {
+        s.stats.in_medium = true;
+        if (s.stats.cells_drawn == 0) s.stats.cells_drawn = s.effect->mesh().cell_count(), stats.cells_drawn += s.stats.cells_drawn;
+    }
+
+    // Exact: the region of the plan, every appended volume's segments integrated over the frame
+    // behind them (`behind_texture`: a copy of the effects' target before they were drawn),
+    // into the bound framebuffer, `viewport` the effects' target at its origin.
+    void draw_exact_medium(const fx::Viewport& viewport, GLuint scene_depth, GLuint behind_texture) {
+        if (!medium) medium.emplace();
+        medium->begin(draw_camera, viewport, plan.region, volumes, appended_bulk, timing);
         for (std::size_t v = 0; v < appended.size(); ++v) {
             Slot& s = *appended[v];
-            medium->append(*s.renderer, fx::camera_in_frame(camera, s.effect->transform()), v, scene_depth);
-            s.stats.in_medium = true;
-            if (s.stats.cells_drawn == 0) s.stats.cells_drawn = s.effect->mesh().cell_count(), stats.cells_drawn += s.stats.cells_drawn;
+            medium->append(*s.renderer, fx::camera_in_frame(draw_camera, s.effect->transform()), v, scene_depth);
+            count_in_medium(s);
         }
-        stats.medium = medium->resolve(behind.id());
+        stats.medium = medium->resolve(behind_texture);
+        if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.medium.gpu_ms;
+    }
+
+    // Froxel: the appended absorbing volumes injected into the grid (its tiles sized for the
+    // effects' resolution `size`), lit and integrated; the grid composited over the bound
+    // framebuffer's `viewport` (the full view: its edges as sharp as the depth) at each pixel's
+    // depth (texel depth_origin + pixel).
+    void draw_froxel_medium(const glm::ivec2& size, const fx::Viewport& viewport, GLuint scene_depth, glm::ivec2 depth_origin) {
+        if (!froxels) froxels.emplace();
+        // The slices end at the farthest corner of the absorbing volumes.
+        double far_depth = 0.0;
+        const glm::dvec3 forward = camera.forward();
+        for (std::size_t v = 0; v < appended.size(); ++v) {
+            if (!volumes[v].absorbs) continue;
+            const fx::Bounds b = appended[v]->effect->world_bounds(time);
+            for (int k = 0; k < 8; ++k) far_depth = std::max(far_depth, glm::dot(b.corner(k) - camera.eye, forward));
+        }
+        GLint framebuffer = 0;
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+        froxels->begin(draw_camera, size.x, size.y, std::max(far_depth, 2.0 * camera.near_distance), volumes, timing);
+        for (std::size_t v = 0; v < appended.size(); ++v) {
+            Slot& s = *appended[v];
+            if (!upload(s)) continue;
+            if (volumes[v].absorbs) froxels->inject(*s.renderer, s.effect->transform(), v);
+            count_in_medium(s);
+        }
+        froxels->integrate();
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(framebuffer));
+        froxels->apply(viewport, scene_depth, depth_origin);
+    }
+
+    // Froxel: the appended emission-only volumes (fire, beams) at the effects' resolution, dimmed
+    // by the grid in front of them and lighting its medium.
+    void draw_froxel_emission(const fx::Viewport& viewport, GLuint scene_depth) {
+        for (std::size_t v = 0; v < appended.size(); ++v) {
+            Slot& s = *appended[v];
+            if (!volumes[v].absorbs && s.renderer) froxels->draw_emission(*s.renderer, s.effect->transform(), v, viewport, scene_depth);
+        }
+        stats.medium = froxels->stats();
         if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.medium.gpu_ms;
     }
 
@@ -551,6 +604,12 @@ struct SceneRenderer::Impl {
     // Draws the prepared frame. With `host` it ends composited over the host framebuffer's
     // viewport; without, the opaque frame stays in `target` (render_to_image reads it). The
     // host's depth (0: none) is normalized from `convention` first.
+    //
+    // Where things are drawn: the full-resolution frame is `target` (own: the opaque frames, the
+    // terrain surface, the exact medium at full resolution) or the host's framebuffer; with
+    // scene.fx_scale < 1 every effect path and the medium draw into `layer` at that fraction,
+    // against the scene's depth reduced to it, and the layer is upsampled over the frame. The
+    // froxel medium's grid is applied at full resolution in either case.
     void draw(Mode mode, std::optional<GLuint> host, const fx::Viewport& viewport, GLuint host_depth,
               const DepthConvention& convention, bool finish) {
         if (!updated) throw fx::Error("scene render: update() has not been called");
@@ -563,21 +622,34 @@ struct SceneRenderer::Impl {
         const double upload_before = stats.upload_ms;
         if (draw_terrain && !surface) surface.emplace(scene.ground);
         const std::vector<Slot*>& drawn = draw_order();
+        // The effects' resolution, and their camera: at a reduced size, the full view's projection
+        // (the layer's aspect may differ from the view's by rounding).
+        const bool scaled = scene.fx_scale < 1.0;
+        const glm::ivec2 effect_size = scaled ? fx_layer_size(width, height, scene.fx_scale) : glm::ivec2(width, height);
+        draw_camera = camera;
+        if (scaled && !draw_camera.projection) draw_camera.projection = camera.projection_matrix(double(width) / double(height));
         // One medium: where volumes of the emission–absorption model overlap on screen, they
         // are integrated together (planned from their bounds: nothing more when none overlap).
-        plan_frame_medium(drawn);
+        plan_frame_medium(drawn, effect_size);
         const bool use_medium = !plan.region.empty();
-        const bool own_target = mode == Mode::Opaque || draw_terrain || use_medium;
+        const bool froxel = use_medium && scene.medium == fx::MediumMethod::Froxel;
+        const bool exact = use_medium && !froxel;
+        const bool own_target = mode == Mode::Opaque || draw_terrain || (exact && !scaled);
         {
             // The one save and restore of the frame: the passes below hold guards of their own
             // (CellRenderer::render, the composite), which do nothing inside this one.
             fx::gl::StateGuard guard;
             fx::gl::StateGuard::set_render_defaults();
-            fx::Viewport effect_viewport = viewport;
-            GLuint scene_depth = 0;
+            // The full-resolution frame and its depth (texel depth_origin + pixel).
+            fx::Viewport frame_viewport = viewport;
+            GLuint frame_framebuffer = host ? *host : 0, scene_depth = 0;
+            glm::ivec2 depth_origin(0);
             if (own_target) {
-                if (target.width() != width || target.height() != height)
+                if (target.width() != width || target.height() != height) {
                     target = fx::gl::RenderTarget::create(width, height, fx::gl::ColorFormat::RGBA32F, true);
+                    target_color = fx::gl::Framebuffer::create();
+                    glNamedFramebufferTexture(target_color.id(), GL_COLOR_ATTACHMENT0, target.color_texture(), 0);
+                }
                 const glm::dvec3& bg = scene.background;
                 target.clear(mode == Mode::Opaque ? glm::vec4(float(bg.r), float(bg.g), float(bg.b), 1.0f) : glm::vec4(0.0f),
                              1.0f);
@@ -589,40 +661,68 @@ struct SceneRenderer::Impl {
                     stats.surface_gpu_ms = timer.stop();
                     if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.surface_gpu_ms;
                 }
-                effect_viewport = fx::Viewport{0, 0, width, height};
+                frame_viewport = fx::Viewport{0, 0, width, height};
+                frame_framebuffer = target_color.id(); // passes that read the target's depth draw here
                 scene_depth = target.depth_texture();
             } else {
-                if (host_depth != 0) scene_depth = depth.normalized(host_depth, convention, camera, viewport);
-                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host ? *host : 0);
+                if (host_depth != 0) {
+                    scene_depth = depth.normalized(host_depth, convention, camera, viewport);
+                    depth_origin = glm::ivec2(viewport.x, viewport.y);
+                }
             }
-            if (use_medium) {
-                // What lies behind the volumes in the region: the frame so far.
-                if (behind_width != width || behind_height != height) {
-                    behind = fx::gl::make_texture_2d(GL_RGBA32F, width, height);
-                    behind_width = width, behind_height = height;
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, frame_framebuffer);
+            glViewportIndexedf(0, float(frame_viewport.x), float(frame_viewport.y), float(frame_viewport.width),
+                               float(frame_viewport.height));
+            // The froxel grid, over the frame at full resolution.
+            if (froxel) draw_froxel_medium(effect_size, frame_viewport, scene_depth, depth_origin);
+            // Where the effects draw: the frame, or the reduced layer.
+            fx::Viewport effect_viewport = frame_viewport;
+            GLuint effect_depth = scene_depth;
+            if (scaled) {
+                if (!layer) layer.emplace();
+                layer->begin(width, height, scene.fx_scale, scene_depth, depth_origin);
+                effect_viewport = layer->viewport();
+                effect_depth = layer->depth_texture();
+            } else {
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, frame_framebuffer);
+            }
+            if (exact) {
+                // What lies behind the volumes in the region: the effects' target so far.
+                if (behind_width != effect_viewport.width || behind_height != effect_viewport.height) {
+                    behind = fx::gl::make_texture_2d(GL_RGBA32F, effect_viewport.width, effect_viewport.height);
+                    behind_width = effect_viewport.width, behind_height = effect_viewport.height;
                 }
                 const fx::PixelRect& r = plan.region;
-                glCopyImageSubData(target.color_texture(), GL_TEXTURE_2D, 0, r.x, r.y, 0, behind.id(), GL_TEXTURE_2D, 0,
-                                   r.x, r.y, 0, r.width, r.height, 1);
+                glCopyImageSubData(scaled ? layer->color_texture() : target.color_texture(), GL_TEXTURE_2D, 0, r.x, r.y, 0,
+                                   behind.id(), GL_TEXTURE_2D, 0, r.x, r.y, 0, r.width, r.height, 1);
             }
-            // The volumes of the medium: each with its own path outside the region ...
+            // The volumes of the medium: each with its own path where the medium does not draw it ...
             for (std::size_t i = 0; i < medium_slots.size(); ++i) {
                 Slot& s = *medium_slots[i];
-                if (use_medium && plan.region_only[i]) upload(s); // drawn in the region only
-                else draw_effect(s, effect_viewport, scene_depth);
+                if (froxel && plan.appended[i]) continue;                        // the grid and its emission pass
+                if (exact && plan.region_only[i]) upload(s);                      // drawn in the region only
+                else draw_effect(s, effect_viewport, effect_depth);
             }
-            // ... and all together inside it, replacing what their paths drew there.
-            if (use_medium) draw_medium(scene_depth);
+            // ... and together where it does.
+            if (froxel) draw_froxel_emission(effect_viewport, effect_depth);
+            if (exact) draw_exact_medium(effect_viewport, effect_depth, behind.id());
             // The emission (pcp) and maximum (mip) effects add their light over it.
             for (Slot* s : drawn)
-                if (!in_medium(*s)) draw_effect(*s, effect_viewport, scene_depth);
+                if (!in_medium(*s)) draw_effect(*s, effect_viewport, effect_depth);
+            if (scaled) {
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, frame_framebuffer);
+                GpuTimer timer(composite_timer, timing);
+                layer->composite(frame_viewport, scene_depth, depth_origin, camera);
+                stats.composite_gpu_ms = timer.stop();
+                if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.composite_gpu_ms;
+            }
             if (own_target && host) {
                 glBindFramebuffer(GL_DRAW_FRAMEBUFFER, *host);
                 glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
                 GpuTimer timer(composite_timer, timing);
                 composite.draw_over_framebuffer(target.color_texture());
-                stats.composite_gpu_ms = timer.stop();
-                if (timing) stats.gpu_ms = std::max(stats.gpu_ms, 0.0) + stats.composite_gpu_ms;
+                const double ms = timer.stop();
+                if (timing) stats.composite_gpu_ms = std::max(stats.composite_gpu_ms, 0.0) + ms, stats.gpu_ms += ms;
             }
             if (finish || timing) glFinish();
             FX_GL_CHECK("scene frame");
@@ -686,6 +786,21 @@ fx::Image SceneRenderer::render_to_image(const fx::Camera& camera, int width, in
     impl_->draw(Impl::Mode::Opaque, std::nullopt, fx::Viewport{0, 0, width, height}, 0, DepthConvention{}, true);
     if (stats) *stats = impl_->stats;
     return impl_->target.read();
+}
+
+fx::Image SceneRenderer::depth_image() const {
+    const fx::gl::RenderTarget& t = impl_->target;
+    if (!t.has_depth()) return fx::Image();
+    fx::Image image(t.width(), t.height());
+    std::vector<float> depth(std::size_t(t.width()) * std::size_t(t.height()));
+    {
+        fx::gl::StateGuard guard;
+        fx::gl::StateGuard::set_render_defaults();
+        glGetTextureImage(t.depth_texture(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(depth.size() * sizeof(float)), depth.data());
+        FX_GL_CHECK("scene depth read-back");
+    }
+    for (std::size_t i = 0; i < depth.size(); ++i) image.pixels[i] = glm::vec4(depth[i], depth[i], depth[i], 1.0f);
+    return image;
 }
 
 std::vector<std::string> SceneRenderer::effect_names() const {
@@ -826,6 +941,15 @@ void SceneRenderer::set_time(double seconds) {
     if (!std::isfinite(seconds)) throw fx::Error("scene: the time is not finite");
     impl_->time = seconds;
 }
+
+void SceneRenderer::set_fx_scale(double scale) {
+    if (!valid_fx_scale(scale))
+        throw fx::Error("scene: fx scale " + std::to_string(scale) + ": must be 1, 0.5 or 0.25 (full, half, quarter resolution)");
+    impl_->scene.fx_scale = scale;
+}
+double SceneRenderer::fx_scale() const { return impl_->scene.fx_scale; }
+void SceneRenderer::set_medium_method(fx::MediumMethod method) { impl_->scene.medium = method; }
+fx::MediumMethod SceneRenderer::medium_method() const { return impl_->scene.medium; }
 
 void SceneRenderer::set_fog_path(fx::RenderPath path) {
     if (impl_->fog) set_path("fog", path);

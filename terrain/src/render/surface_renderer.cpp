@@ -84,6 +84,8 @@ void SurfaceRenderer::Impl::upload_lod(const TerrainLod& l, SurfaceStats& stats)
     if (lod == &l && lod_version + 1 == l.version() && !changes.full) {
         // Only what the refinement changed: its vertices' heights and its fan slots.
         height_scatter.clear();
+        height_scatter.reserve(9 * fans); // a fan touches at most 9 vertices: no allocation in a steady frame
+        fan_scatter.reserve(fans);
         for (std::uint32_t v : changes.vertices) {
             const float h = relative_height(float(c.vertex_position(v).z));
             std::memcpy(height_scatter.add(v, 1), &h, 4);

@@ -12,6 +12,7 @@
 
 #include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
+#include "fx/medium.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/resource_limits.hpp"
 #include "io/input_file.hpp"
@@ -628,6 +629,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
         for (int k = 0; k < 3; ++k)
             if (!(scene.background[k] >= 0.0 && scene.background[k] <= 1.0))
                 throw r.error("background", "colour components must be in [0, 1]");
+        scene.fx_scale = r.number("fx_scale", scene.fx_scale);
+        if (!valid_fx_scale(scene.fx_scale))
+            throw r.error("fx_scale", "must be 1, 0.5 or 0.25 (the effects' resolution: full, half, quarter), got " +
+                                          std::to_string(scene.fx_scale));
+        if (r.has("medium") && !fx::parse_medium_method(r.string("medium"), scene.medium))
+            throw r.error("medium", "unknown method '" + r.string("medium") + "' (expected froxel or exact)");
         fx::check_limit(fx::Limit::ImagePixels, std::uint64_t(scene.width) * std::uint64_t(scene.height),
                         source + ": render: a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image");
         r.finish();
