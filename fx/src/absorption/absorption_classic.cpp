@@ -56,7 +56,12 @@ void ClassicGeometry::append(const ClassicGeometry& o) {
 ClassicAbsorptionBuilder::ClassicAbsorptionBuilder(const ProjectorGeometry& geometry, const TransferFunction& tf,
                                                    const ClassicSettings& settings)
     : geometry_(geometry), tf_(tf), settings_(settings) {
-    for (const TransferPoint& p : tf.points())
+    transfer_function_changed();
+}
+
+void ClassicAbsorptionBuilder::transfer_function_changed() {
+    breakpoints_.clear();
+    for (const TransferPoint& p : tf_.points())
         if (breakpoints_.empty() || p.s != breakpoints_.back()) breakpoints_.push_back(p.s);
 }
 

@@ -32,7 +32,8 @@
 // linear on screen) give the part of the ray in front of the scene, which scales u.
 //
 // Ownership: the builder keeps references to the geometry and the transfer function, which
-// must outlive it and not change; it holds scratch buffers (use one builder per thread).
+// must outlive it (a function changed in place is taken by transfer_function_changed()); it
+// holds scratch buffers (use one builder per thread).
 // Preconditions: the cells' point ids index the geometry's points; the transfer function is
 // in the field's units (not normalized).
 #pragma once
@@ -92,6 +93,10 @@ public:
     ClassicAbsorptionBuilder(const ProjectorGeometry& geometry, const TransferFunction& tf,
                              const ClassicSettings& settings);
 
+    // The transfer function (the object given to the constructor) has new points: its
+    // breakpoints are taken again, into the same storage.
+    void transfer_function_changed();
+    void set_settings(const ClassicSettings& settings) { settings_ = settings; }
     void set_view(const ProjectorView& view, const ProjectionFrame& frame);
     // Appends cells[order[0]], cells[order[1]], ... (back to front) to `out`.
     void append(const CellMesh& cells, const std::uint32_t* order, std::size_t count, ClassicGeometry& out);
