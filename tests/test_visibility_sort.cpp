@@ -365,7 +365,7 @@ TEST_CASE("visibility sort rejects vertex indices out of range", "[sort]") {
     }
 }
 
-TEST_CASE("rebuild() gives the orders of a sort made for the new mesh; a copy keeps the old one", "[sort]") {
+TEST_CASE("rebuild() gives the orders of a sort made for the new mesh, and a copy keeps the old one", "[sort]") {
     // A C-shape (non-convex: xmpvo adds exterior edges) replaced by a hollow box and by mixed
     // cells: another size, other cell types, other boundary faces.
     const fx::CellMesh first = sort_test::c_shape(24, 3, 2, true);
