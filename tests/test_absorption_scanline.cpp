@@ -21,9 +21,11 @@
 //     on screen over each polygon (exact for orthographic views, off by the cell's perspective
 //     foreshortening otherwise) and the polygon colour C/α interpolated linearly between
 //     vertices where colour and extinction vary across the cell. Exact along vertex rays
-//     (slices make colour and extinction linear there). Measured at most 2.8% of peak per
-//     pixel and 0.3% mean (camera inside): per pixel 4%, mean 0.4%, beyond-tolerance pixels
-//     at most 1%. Measured values are printed (WARN) for comparison.
+//     (slices make colour and extinction linear there). Cells that are not tetrahedra are
+//     drawn as their consistent tetrahedra, the scalar linear per tetrahedron, where the
+//     reference takes it linear along the ray between the cell's faces. Measured at most 3.7%
+//     of peak per pixel (the mixed box) and 0.2% mean (camera inside): per pixel 4%, mean
+//     0.4%, beyond-tolerance pixels at most 1%. Measured values are printed (WARN).
 //   Camera inside (near plane cuts cells) and non-planar cells: modelling differences, stated
 //     at each test.
 #include <catch2/catch.hpp>
