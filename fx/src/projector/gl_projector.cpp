@@ -314,7 +314,10 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
         if (!changes.oriented) orient_cell(mesh_, c);
         // Its CPU triangles when a CPU pass asks (flush_triangles): listed once however often it
         // changes meanwhile.
-        if (triangles_stale_.size() < nc) triangles_stale_.resize(std::max<std::size_t>(nc, triangles_stale_.size() * 3 / 2), 0);
+        if (triangles_stale_.size() < nc) {
+            triangles_stale_.resize(std::max<std::size_t>(nc, triangles_stale_.size() * 3 / 2), 0);
+            untriangulated_.reserve(triangles_stale_.size()); // a cell is listed once at most
+        }
         if (!triangles_stale_[c]) {
             triangles_stale_[c] = 1;
             untriangulated_.push_back(c);
