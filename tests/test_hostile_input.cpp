@@ -331,6 +331,30 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         require_accepted(run_cellfx(scanline(mesh, file("up_tiny.pfm"), {"--camera", view + "1e-300"})));
         CHECK(mean_value(file("up_1.pfm")) > 0.001);
         CHECK(max_difference(file("up_1.pfm"), file("up_tiny.pfm")) == 0.0);
+        // Every GPU path takes the frame Camera::basis builds in double: the same picture with an
+        // up of 1e-300 or 1e300 as with 1 (pcp drew garbage, pcp-exact nothing, absorption-exact
+        // 4x too bright with 1e-300, as they normalised the raw up in place).
+        for (const char* path : {"pcp", "pcp-exact", "mip", "absorption", "absorption-exact"}) {
+            INFO(path);
+            const std::string one = file(std::string("up_1_") + path + ".pfm");
+            require_accepted(run_cellfx({"render", mesh, "--path", path, "--size", "48x40", "--camera", view + "1", "--out", one}, kGl));
+            CHECK(mean_value(one) > 0.001);
+            for (const char* scale : {"1e-300", "1e300"}) {
+                const std::string scaled = file(std::string("up_") + scale + "_" + path + ".pfm");
+                require_accepted(
+                    run_cellfx({"render", mesh, "--path", path, "--size", "48x40", "--camera", view + scale, "--out", scaled}, kGl));
+                CHECK(max_difference(one, scaled) == 0.0);
+            }
+        }
+        // A scene: its campfire in the one medium and its frustum culling see the same frame.
+        const auto fire = [&](const std::string& name, const std::string& up) {
+            const std::string scene = scene_with_camera(name + ".json", R"({"eye": [3, -4, 2], "target": [0, 0, 0.5], "up": )" + up + "}");
+            require_accepted(run_cellfx({"render", scene, "--out", file(name + ".pfm")}, kGl));
+            return file(name + ".pfm");
+        };
+        const std::string fire_1 = fire("up_fire_1", "[0, 0, 1]");
+        CHECK(mean_value(fire_1) > 0.001);
+        CHECK(max_difference(fire_1, fire("up_fire_tiny", "[0, 0, 1e-300]")) == 0.0);
     }
     SECTION("a camera-path key straight above its target") {
         const std::string scene = effects_scene("path_above.json", campfire(""),

@@ -72,7 +72,7 @@ const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley",
 fx::Camera camera_at(const terrain::Scene& scene, int frame, double dt) {
     if (scene.camera_path) return scene.camera_path->at(frame * dt, scene.camera);
     fx::Camera cam = scene.camera;
-    const glm::dvec3 f = cam.forward(), side = glm::normalize(glm::cross(f, cam.up));
+    const glm::dvec3 side = cam.right();
     const double step = 0.01 * glm::length(cam.target - cam.eye);
     cam.eye += side * (step * frame);
     cam.target += side * (step * frame);
@@ -171,7 +171,7 @@ double thread_cpu_ms() {
 fx::Camera moving_camera(const terrain::Scene& scene, int frame) {
     if (scene.camera_path) return scene.camera_path->at(1.0 + frame / 30.0, scene.camera);
     fx::Camera cam = scene.camera;
-    const glm::dvec3 side = glm::normalize(glm::cross(cam.forward(), cam.up)) * (0.01 * glm::length(cam.target - cam.eye));
+    const glm::dvec3 side = cam.right() * (0.01 * glm::length(cam.target - cam.eye));
     cam.eye += side * double(frame);
     cam.target += side * double(frame);
     return cam;

@@ -163,9 +163,8 @@ void MediumCompositor::Impl::upload_tables() {
 
 void MediumCompositor::Impl::set_resolve_uniforms() {
     const GLuint p = resolve_program.id();
-    const glm::dvec3 forward = camera.forward();
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
-    const glm::dvec3 up = glm::cross(right, forward);
+    const Camera::Basis basis = camera.basis();
+    const glm::dvec3 &forward = basis.forward, &right = basis.right, &up = basis.up;
     const double aspect = double(viewport.width) / double(viewport.height);
     const double half = camera.orthographic() ? 0.5 * camera.ortho_height
                                               : std::tan(0.5 * camera.fov_y_degrees * 0.017453292519943295);

@@ -54,7 +54,8 @@ double aspect_of(const fx::EffectView& v) { return double(v.viewport_width) / do
 
 // The corners of the camera's view volume (perspective: near and far rectangles).
 std::array<glm::dvec3, 8> frustum_corners(const fx::Camera& c, double aspect) {
-    const glm::dvec3 f = c.forward(), r = glm::normalize(glm::cross(f, c.up)), u = glm::cross(r, f);
+    const fx::Camera::Basis b = c.basis();
+    const glm::dvec3 &f = b.forward, &r = b.right, &u = b.up;
     const double ty = std::tan(glm::radians(c.fov_y_degrees) / 2.0), tx = ty * aspect;
     std::array<glm::dvec3, 8> corners;
     for (int k = 0; k < 8; ++k) {
