@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "io/io_util.hpp"
+#include "io/output_file.hpp"
 
 namespace cellfx::fx {
 namespace {
@@ -581,7 +582,7 @@ void write_plot3d(const std::vector<Plot3dBlock>& blocks, const Plot3dFormat& fo
         }
         append_record(xyz, payload, format);
     }
-    io::write_file_bytes(xyz_path, xyz);
+    io::write_output_file(xyz_path, xyz);
     if (q_path.empty()) return;
     std::string q = header_bytes(blocks, format);
     for (const Plot3dBlock& b : blocks) {
@@ -594,7 +595,7 @@ void write_plot3d(const std::vector<Plot3dBlock>& blocks, const Plot3dFormat& fo
         }
         append_record(q, payload, format);
     }
-    io::write_file_bytes(q_path, q);
+    io::write_output_file(q_path, q);
 }
 
 } // namespace cellfx::fx
