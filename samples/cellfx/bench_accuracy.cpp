@@ -879,9 +879,8 @@ int bench_accuracy(const std::vector<std::string>& args) {
     Options o;
     o.quick = parsed.has("quick");
     o.images = parsed.has("images");
-    o.frames = parse_int(parsed.get("frames", o.quick ? "1" : "5"), "--frames");
-    o.fem_cells = parse_int(parsed.get("fem-cells", o.quick ? "20000" : "1000000"), "--fem-cells");
-    if (o.frames < 1 || o.fem_cells < 6) throw fx::Error("bench accuracy: --frames must be ≥ 1 and --fem-cells ≥ 6");
+    o.frames = int_option(parsed, "bench accuracy", "frames", o.quick ? 1 : 5);
+    o.fem_cells = int_option(parsed, "bench accuracy", "fem-cells", o.quick ? 20000 : 1000000);
     o.out = parsed.get("out", o.out);
     o.scenes = parsed.get("scenes", o.scenes);
     o.blunt_fin = parsed.get("blunt-fin", std::string(CELLFX_SOURCE_DIR) + "/content/meshes/blunt_fin");

@@ -252,8 +252,11 @@ int bench_effects(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples", "only-cpu"});
     require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
-    const int frames = parse_int(parsed.get("frames", "8"), "--frames");
-    if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
+    const int frames = int_option(parsed, "bench effects", "frames", 8);
+    if (parsed.has("size")) { // checked now, applied to each scene and sample below
+        int width = 0, height = 0;
+        parse_size(parsed.get("size"), width, height);
+    }
     std::vector<std::string> scenes = parsed.has("scenes") ? split_list(parsed.get("scenes")) : std::vector<std::string>();
     if (scenes.empty()) scenes.assign(std::begin(kScenes), std::end(kScenes));
     std::vector<fx::RenderPath> paths;

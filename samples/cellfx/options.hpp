@@ -26,9 +26,47 @@ double parse_double(const std::string& text, const std::string& what);
 int parse_int(const std::string& text, const std::string& what);
 // "WxH", each in 1..16384 and width × height within the image-pixels limit.
 void parse_size(const std::string& text, int& width, int& height);
+
+// ---- numeric options ------------------------------------------------------------------------
+// Every numeric option of every subcommand has a documented range, in ONE table (options.cpp):
+// the functions below read an option through it — so it is checked before the command reads
+// or allocates anything — and `cellfx limits` prints it. A count of cells is bounded by the
+// mesh-cells limit in force as well (raised with --limit), an image by image-pixels.
+enum class OptionKind {
+    Integer,     // one whole number in [lo, hi]
+    Number,      // one number in [lo, hi] (or (lo, hi] with lo_open)
+    IntegerList, // "A,B,...": each in [lo, hi]
+    Size,        // "WxH" (parse_size): each side in [lo, hi], W·H within image-pixels
+    Colour,      // "R,G,B" (parse_colour): each in [lo, hi]
+    Camera,      // fx::Camera::parse's form, every number checked by Camera::validate
+};
+struct NumericOption {
+    const char* command; // "render", "bench sort", ...
+    const char* name;    // without the dashes
+    OptionKind kind;
+    double lo, hi;
+    bool lo_open;        // lo itself excluded
+    const char* budget;  // a resource limit that also bounds it ("mesh-cells"), or nullptr
+    const char* what;    // what it sets, for `cellfx limits`
+};
+const std::vector<NumericOption>& numeric_options();
+// The table as `cellfx limits` prints it.
+std::string describe_numeric_options();
+
+// --NAME of `command` from `parsed` (`fallback` when absent), checked against its range; an
+// error names the command, the option, the value and the range.
+int int_option(const ParsedArgs& parsed, const char* command, const char* name, int fallback);
+double number_option(const ParsedArgs& parsed, const char* command, const char* name, double fallback);
+std::vector<int> int_list_option(const ParsedArgs& parsed, const char* command, const char* name,
+                                 const std::string& fallback);
 // A comma-separated list ("fire,beam"), empty items dropped.
 std::vector<std::string> split_list(const std::string& list);
 glm::dvec3 parse_vec3(const std::string& text, const std::string& what);
+// --NAME FILE, a file to write (empty when absent and not `required`): checked now, before
+// the command's work — a folder, a missing or read-only folder and a name without one of
+// `extensions` (".png"; any when empty) are errors naming the option and the file.
+std::string output_file_option(const ParsedArgs& parsed, const std::string& name,
+                               const std::vector<std::string>& extensions, bool required);
 // "R,G,B" with every component in [0, 1].
 glm::dvec3 parse_colour(const std::string& text, const std::string& what);
 // "60", "0.5", "1e-06": a number as a user would write it.
