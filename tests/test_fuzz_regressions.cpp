@@ -126,6 +126,7 @@ TEST_CASE("Fuzz regressions: what each input must now say", "[io][fuzz]") {
         {Png, "height_field_png/chunk_claims_1gib.png", "f.png: byte 33: truncated PNG: chunk \"IDAT\" claims 1090519170 bytes"},
         {Scene, "scene/number_overflow_1e999.json", "(at surface.sun[0]): the number -0.351e999 is beyond the range of a double"},
         {Scene, "scene/height_map_is_a_folder.json", "is a folder, not a height map"},
+        {Scene, "scene/camera_path_without_keys.json", "f.scene: camera_path.keys: is required"},
         {Vtk, "vtk_legacy/claims_2e63_cell_data.vtk", "f.vtk: line 7: SCALARS \"s\": absurd count 9223372036854775807"},
         // Headers that claim far more than the file holds: an error before anything is allocated
         // (under AddressSanitizer an allocation of that size would abort the test).
