@@ -75,6 +75,26 @@ int parse_int(const std::string& text, const std::string& what) {
 
 namespace {
 
+// A row of the table: the option's command, name, kind and range, a resource limit that bounds
+// it too, and what it sets.
+enum class OptionKind {
+    Integer,     // one whole number in [lo, hi]
+    Number,      // one number in [lo, hi] (or (lo, hi] with lo_open)
+    IntegerList, // "A,B,...": each in [lo, hi]
+    Size,        // "WxH" (parse_size): each side in [lo, hi], W·H within image-pixels
+    Colour,      // "R,G,B" (parse_colour): each in [lo, hi]
+    Camera,      // fx::Camera::parse's form, every number checked by Camera::validate
+};
+struct NumericOption {
+    const char* command; // "render", "bench sort", ...
+    const char* name;    // without the dashes
+    OptionKind kind;
+    double lo, hi;
+    bool lo_open;        // lo itself excluded
+    const char* budget;  // a resource limit that also bounds it ("mesh-cells"), or nullptr
+    const char* what;    // what it sets, for `cellfx limits`
+};
+
 // The largest side of an image (GL's textures and most drivers' framebuffers stop there).
 constexpr double kMaxImageSide = 16384;
 // Benchmark repetitions and frames: enough for any median, bounded so a typo cannot run for days.
@@ -178,8 +198,6 @@ void parse_size(const std::string& text, int& width, int& height) {
     }
     fx::check_limit(fx::Limit::ImagePixels, std::uint64_t(width) * std::uint64_t(height), "--size " + text);
 }
-
-const std::vector<NumericOption>& numeric_options() { return kNumericOptions; }
 
 std::string describe_numeric_options() {
     std::string out;

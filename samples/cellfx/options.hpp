@@ -32,24 +32,7 @@ void parse_size(const std::string& text, int& width, int& height);
 // the functions below read an option through it — so it is checked before the command reads
 // or allocates anything — and `cellfx limits` prints it. A count of cells is bounded by the
 // mesh-cells limit in force as well (raised with --limit), an image by image-pixels.
-enum class OptionKind {
-    Integer,     // one whole number in [lo, hi]
-    Number,      // one number in [lo, hi] (or (lo, hi] with lo_open)
-    IntegerList, // "A,B,...": each in [lo, hi]
-    Size,        // "WxH" (parse_size): each side in [lo, hi], W·H within image-pixels
-    Colour,      // "R,G,B" (parse_colour): each in [lo, hi]
-    Camera,      // fx::Camera::parse's form, every number checked by Camera::validate
-};
-struct NumericOption {
-    const char* command; // "render", "bench sort", ...
-    const char* name;    // without the dashes
-    OptionKind kind;
-    double lo, hi;
-    bool lo_open;        // lo itself excluded
-    const char* budget;  // a resource limit that also bounds it ("mesh-cells"), or nullptr
-    const char* what;    // what it sets, for `cellfx limits`
-};
-const std::vector<NumericOption>& numeric_options();
+
 // The table as `cellfx limits` prints it.
 std::string describe_numeric_options();
 
