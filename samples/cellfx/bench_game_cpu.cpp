@@ -62,7 +62,7 @@ double percentile(std::vector<double> v, double p) {
 fx::Camera flight_camera(const terrain::Scene& scene, int frame) {
     if (scene.camera_path) return scene.camera_path->at(1.0 + frame / 30.0, scene.camera);
     fx::Camera cam = scene.camera;
-    const glm::dvec3 side = glm::normalize(glm::cross(cam.forward(), cam.up)) * (0.01 * glm::length(cam.target - cam.eye));
+    const glm::dvec3 side = cam.right() * (0.01 * glm::length(cam.target - cam.eye));
     cam.eye += side * double(frame);
     cam.target += side * double(frame);
     return cam;
@@ -186,7 +186,7 @@ FlightRow fly(const std::string& name, const std::string& path_name, int frames,
         fx::Camera far_away = scene.camera_path ? scene.camera_path->at(11.0 + f / 30.0, scene.camera) : flight_camera(scene, f);
         if (!scene.camera_path) {
             const double jump = scene.has_terrain() ? 0.5 * scene.ground.extent() : 100.0;
-            const glm::dvec3 side = glm::normalize(glm::cross(far_away.forward(), far_away.up));
+            const glm::dvec3 side = far_away.right();
             far_away.eye -= side * jump, far_away.target -= side * jump;
         }
         event("teleport", far_away, frame);
