@@ -38,8 +38,9 @@ struct Sample {
 Sample sample_of(const TransferPoint& p) { return {p.color, p.sigma}; }
 
 // Value at s on interval j of the transfer function: between points j−1 and j (interval 0 and
-// interval n are the held ends). Exact at the interval's end points.
-Sample on_interval(const TransferPoint* p, std::size_t n, std::size_t j, double s) {
+// interval n are the held ends). Exact at the interval's end points. Inline: the scan-line
+// renderer calls it twice per segment, and the call cost as much as its work.
+inline Sample on_interval(const TransferPoint* p, std::size_t n, std::size_t j, double s) {
     if (j == 0) return sample_of(p[0]);
     if (j == n) return sample_of(p[n - 1]);
     const TransferPoint& a = p[j - 1];
