@@ -57,6 +57,8 @@
 #include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
 #include "mesh_input.hpp"
+#include "projector/gl_projector.hpp"
+#include "render/projector_access.hpp"
 #include "options.hpp"
 #include "cellfx_names.hpp"
 
@@ -83,6 +85,8 @@ constexpr const char* kUsage =
     "                     diagonal is 4)\n"
     "  --density K        multiply the extinction by K\n"
     "  --threads N        scan-line worker threads (default: all cores)\n"
+    "  --planar-tolerance T  the exact paths' planar test (default 1e-3 of a cell's size;\n"
+    "                     negative: no cell is planar, every one searches its triangles)\n"
     "  --json FILE        everything a peer run needs: mesh, field, transfer function in field\n"
     "                     units, image size, every view's camera, every renderer's figures\n"
     "  --images DIR       view 0 of every renderer as PNG (over black)";
@@ -234,6 +238,7 @@ struct Scene {
     const fx::TransferFunction& tf;
     const std::vector<fx::Camera>& cameras;
     int width, height;
+    double planar_tolerance; // GlProjector::set_planar_tolerance
 };
 
 using References = std::map<fx::OpticalModel, std::vector<fx::Image>>; // per model, per view
@@ -288,6 +293,7 @@ Run run_gpu_path(const Scene& sc, fx::RenderPath path, const fx::SortMethod* sor
     run.tol = tolerance_for(run.path);
     const auto t = Clock::now();
     fx::CellRenderer renderer(sc.mesh, sc.field_name, sc.tf);
+    fx::ProjectorAccess::projector(renderer).set_planar_tolerance(sc.planar_tolerance);
     run.setup_ms = ms_since(t);
     fx::CellRenderStats stats;
     double cpu = 0.0, gpu = 0.0;
@@ -390,7 +396,8 @@ int bench_render(const std::vector<std::string>& args) {
         std::puts(kUsage);
         return 0;
     }
-    require_known(parsed, {"paths", "views", "size", "up", "sort", "scalar", "tf", "density", "threads", "json", "images"});
+    require_known(parsed, {"paths", "views", "size", "up", "sort", "scalar", "tf", "density", "threads", "json", "images",
+                           "planar-tolerance"});
     const MeshInput input = read_mesh_input(parsed);
     const fx::CellMesh& mesh = input.mesh;
     const fx::ScalarField& field = input.scalar();
@@ -432,6 +439,7 @@ int bench_render(const std::vector<std::string>& args) {
     }
     if (sorts.empty()) throw fx::Error("--sort: no sort given");
     const std::string images = parsed.get("images");
+    const double planar_tolerance = parse_double(parsed.get("planar-tolerance", "1e-3"), "--planar-tolerance");
 
     const Orbit orbit(bounds, parsed.get("up", "z"), width, height);
     std::vector<fx::Camera> cameras;
@@ -452,7 +460,7 @@ int bench_render(const std::vector<std::string>& args) {
                 width, height, views, kElevationDegrees, views, kFovDegrees, orbit.distance, orbit.radius);
 
     // The scan-line renderer first: its timed row, and the references every GPU frame is checked against.
-    const Scene scene{mesh, input.field, field, tf, cameras, width, height};
+    const Scene scene{mesh, input.field, field, tf, cameras, width, height, planar_tolerance};
     std::vector<fx::OpticalModel> models = {fx::OpticalModel::EmissionAbsorption};
     for (const fx::RenderPath p : paths)
         if (std::find(models.begin(), models.end(), model_of(p)) == models.end()) models.push_back(model_of(p));
@@ -525,6 +533,7 @@ int bench_render(const std::vector<std::string>& args) {
         for (const fx::TransferPoint& p : tf.points()) points.push_back({p.s, p.color.r, p.color.g, p.color.b, p.sigma});
         j["transfer_function"] = {{"units", "field"}, {"points", points}, {"source", parsed.get("tf", "default")}};
         j["image"] = {{"width", width}, {"height", height}};
+        j["planar_tolerance"] = planar_tolerance;
         j["orbit"] = {{"up", vec_json(orbit.up)},           {"elevation_degrees", kElevationDegrees},
                       {"fov_y_degrees", kFovDegrees},        {"views", views},
                       {"center", vec_json(orbit.center)},    {"radius", orbit.radius},
