@@ -229,3 +229,42 @@ TEST_CASE("camera inside the mesh: the near plane cuts cells (caps)", "[gl][pcp]
                     1.0 / 255.0);
     }
 }
+
+TEST_CASE("a profiled frame draws the same picture, with its stages timed and the memory told by reader", "[gl][pcp]") {
+    fx_test::gl_context();
+    const fx::CellMesh mesh = box_with_linear_field(3, {0, 0, 0}, {1, 1, 1}, {0.3, 0.2, 0.5}, 0.1);
+    const fx::TransferFunction tf({{0.0, {0.2, 0.5, 1.0}, 0.5}, {1.0, {1.0, 0.8, 0.3}, 1.5}});
+    const fx::Camera cam = perspective({2.2, 1.6, 1.9}, {0.5, 0.5, 0.5});
+    for (const fx::RenderPath path : {fx::RenderPath::Pcp, fx::RenderPath::PcpExact, fx::RenderPath::Mip,
+                                      fx::RenderPath::Absorption, fx::RenderPath::AbsorptionExact}) {
+        INFO(fx::render_path_name(path));
+        fx::CellRenderer r(mesh, "s", tf);
+        fx::CellRenderOptions profiled;
+        profiled.profile = true;
+        fx::CellRenderStats stats;
+        const fx::Image plain = r.render_to_image(cam, 48, 48, path);
+        const fx::Image image = r.render_to_image(cam, 48, 48, path, profiled, &stats);
+        fx_test::require_no_gl_error();
+        // The draws' rerun with rasterisation off leaves no trace: the same pixels, bit for bit.
+        CHECK(image.pixels == plain.pixels);
+        // Every GL stage timed (by both clocks: ≥ 0), and the draws took some time.
+        for (const fx::CellRenderStats::StageTime* s : {&stats.tables, &stats.clear, &stats.upload, &stats.vertex,
+                                                         &stats.fragment, &stats.resolve}) {
+            CHECK(s->wall >= 0.0);
+            CHECK(s->gl >= 0.0);
+        }
+        CHECK(stats.vertex.wall + stats.fragment.wall > 0.0);
+        CHECK(stats.gpu_ms >= 0.0);
+        // Memory: the shared mesh always; the cell tables (the exact paths read them) too, as
+        // every path's frame builds them; each path's own part only once it drew.
+        const fx::CellRenderer::Memory m = r.gpu_memory();
+        CHECK(m.mesh > 0);
+        CHECK(m.cell_tables > 0);
+        CHECK((m.unique_faces > 0) == (path == fx::RenderPath::Mip));
+        CHECK((m.pcp_list > 0) == (path == fx::RenderPath::Pcp));
+        const bool absorption = path == fx::RenderPath::Absorption || path == fx::RenderPath::AbsorptionExact;
+        CHECK((m.absorption > 0) == absorption);
+        CHECK(m.targets == std::size_t(48 * 48) * (path == fx::RenderPath::Pcp ? 4 : 16));
+        CHECK(r.gpu_bytes() == m.mesh + m.cell_tables + m.unique_faces + m.pcp_list + m.absorption);
+    }
+}

@@ -681,12 +681,19 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
 }
 
 std::size_t GlProjector::gpu_capacity_bytes() const {
-    std::size_t bytes = std::size_t(kTableSize + 1) * 3 * 16;
-    for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &planes_, &scalar_fns_,
-                                       &barycentrics_, &elements_, &piece_points_, &unique_faces_buffer_, &point_stamps_,
-                                       &cell_stamps_})
-        bytes += b->capacity();
-    return bytes;
+    const ProjectorMemory m = memory();
+    return m.mesh + m.cell_tables + m.unique_faces;
+}
+
+ProjectorMemory GlProjector::memory() const {
+    ProjectorMemory m;
+    m.mesh = std::size_t(kTableSize + 1) * 3 * 16; // the transfer-function tables
+    for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &point_stamps_, &cell_stamps_})
+        m.mesh += b->capacity();
+    for (const gl::GrowingBuffer* b : {&planes_, &scalar_fns_, &barycentrics_, &elements_, &piece_points_})
+        m.cell_tables += b->capacity();
+    m.unique_faces = unique_faces_buffer_.capacity();
+    return m;
 }
 
 void GlProjector::upload_tables(const TransferFunction& tf) {
@@ -911,9 +918,11 @@ void GlProjector::append_cap_vertices(const NearCaps& caps, const ProjectedCells
 
 void GlProjector::upload_frame(const std::vector<glm::uvec4>& data) {
     frame_.upload(data.data(), data.size() * sizeof(glm::uvec4));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
+    bind_frame();
     FX_GL_CHECK("upload frame data");
 }
+
+void GlProjector::bind_frame() const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id()); }
 
 std::size_t GlProjector::unique_face_triangles() {
     if (!unique_faces_ready_) {

@@ -109,6 +109,14 @@ struct ProjectorTables {
 ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell,
                                        double planar_tolerance = kPlanarTolerance);
 
+// The projector's GPU buffers by who reads them, in bytes (their capacity).
+struct ProjectorMemory {
+    std::size_t mesh = 0;         // points, connectivity, cell offsets and words, stamps, transfer tables
+    std::size_t cell_tables = 0;  // planes, scalar functions, barycentric rows, elements, a frame's pieces:
+                                  // the exact paths' (pcp-exact, absorption-exact)
+    std::size_t unique_faces = 0; // mip's (made on first use)
+};
+
 class GlProjector {
 public:
     // Uploads the mesh and field (see CellRenderer's constructor) and the function's tables.
@@ -140,6 +148,7 @@ public:
     const ProjectorGeometry& geometry() const;
     const TransferFunction& transfer_function() const { return transfer_; } // in the field's units
     std::size_t gpu_bytes() const { return bytes_; }
+    ProjectorMemory memory() const;
 
     // A program of the projector's shader library (projector_interface.glsl included), linked
     // once per context and shared with every other renderer in it. The mesh's programs get
@@ -203,8 +212,9 @@ public:
     static void append_cap_vertices(const NearCaps& caps, const ProjectedCells& projected, std::size_t k,
                                     std::vector<glm::uvec4>& out);
     // Uploads `data` into the per-frame storage buffer (grown as needed, never shrunk) and
-    // binds it at BINDING_FRAME.
+    // binds it at BINDING_FRAME; bind_frame() binds it again.
     void upload_frame(const std::vector<glm::uvec4>& data);
+    void bind_frame() const;
 
     // ---- unique faces (mip) -------------------------------------------------------------------
     // Each face shared by two cells once, boundary faces once: point ids per triangle (made on
