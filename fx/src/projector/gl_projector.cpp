@@ -789,13 +789,42 @@ void GlProjector::draw_slots(std::size_t first_slot, std::size_t slots) const {
                        reinterpret_cast<const void*>(3 * first * sizeof(std::uint32_t)));
 }
 
-void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const {
+glm::dmat4 GlProjector::raster_view_projection(const Camera& camera, const Viewport& viewport, double* ortho_far) const {
     const ProjectorView v = view(camera);
     // No cell is cut at the far plane, as the scan-line reference cuts none: an orthographic
     // view rasterises with far moved past the mesh's deepest corner where that lies beyond it.
-    const double ortho_far =
+    const double far =
         v.orthographic ? std::max(camera.far_distance, camera.near_distance + 1.01 * std::max(bounds_depth_range(v).y, 0.0)) : 0.0;
-    const glm::mat4 vp(raster_projection(camera, double(viewport.width) / double(viewport.height), ortho_far) * v.view);
+    if (ortho_far) *ortho_far = far;
+    return raster_projection(camera, double(viewport.width) / double(viewport.height), far) * v.view;
+}
+
+glm::ivec4 GlProjector::screen_rect(const Camera& camera, const Viewport& viewport) const {
+    const glm::ivec4 whole(0, 0, viewport.width, viewport.height);
+    if (geometry_.positions.empty()) return glm::ivec4(0);
+    const glm::dvec2 depth = bounds_depth_range(view(camera)); // beyond the near plane
+    if (depth.y < 0.0) return glm::ivec4(0);                    // wholly before it: nothing drawn
+    if (depth.x <= 0.0) return whole;                           // across it: corners behind the eye bound nothing
+    const glm::dmat4 vp = raster_view_projection(camera, viewport, nullptr);
+    glm::dvec2 lo(HUGE_VAL), hi(-HUGE_VAL);
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec4 c = vp * glm::dvec4(bounds_.corner(k), 1.0);
+        const glm::dvec2 ndc = glm::dvec2(c) / c.w;
+        lo = glm::min(lo, ndc), hi = glm::max(hi, ndc);
+    }
+    if (!(std::isfinite(lo.x) && std::isfinite(lo.y) && std::isfinite(hi.x) && std::isfinite(hi.y))) return whole;
+    // To pixels, a pixel wider on every side (rounding of the corners' projection), clamped.
+    const glm::dvec2 size(viewport.width, viewport.height);
+    const glm::dvec2 a = glm::clamp(glm::floor((lo * 0.5 + 0.5) * size) - 1.0, glm::dvec2(0.0), size);
+    const glm::dvec2 b = glm::clamp(glm::ceil((hi * 0.5 + 0.5) * size) + 1.0, glm::dvec2(0.0), size);
+    if (!(b.x > a.x && b.y > a.y)) return glm::ivec4(0); // off screen
+    return glm::ivec4(int(a.x), int(a.y), int(b.x - a.x), int(b.y - a.y));
+}
+
+void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const {
+    const ProjectorView v = view(camera);
+    double ortho_far = 0.0;
+    const glm::mat4 vp(raster_view_projection(camera, viewport, &ortho_far));
     const glm::vec3 eye(v.eye), forward(v.forward);
     const double span = s_hi_ - s_lo_;
     const glm::vec4 table(float(s_lo_), float(s_hi_), float(kTableSize), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f);

@@ -191,6 +191,11 @@ public:
     // target of the viewport's size at the origin (the pass's own; the viewport's position
     // matters to the resolve and the scene depth only).
     void set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const;
+    // The pixels of a target of the viewport's size (at the origin) the mesh can cover in
+    // `camera`'s view, as (x, y, width, height): its bounding box's projection, a pixel wider,
+    // clamped; the whole target where the box crosses the near plane, (0, 0, 0, 0) when it lies
+    // off screen or before the near plane. The frame's clear and resolve are cut to it (CellRenderer::render).
+    glm::ivec4 screen_rect(const Camera& camera, const Viewport& viewport) const;
     // Sets project.glsl's scene-depth uniforms on `program`, the variant for `scene_depth`
     // (CellRenderOptions::scene_depth; 0: none).
     void set_scene_depth_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport,
@@ -246,6 +251,8 @@ private:
     // no cell is cut at its far plane: a perspective view's far at infinity, an orthographic
     // one's at `ortho_far`.
     static glm::dmat4 raster_projection(const Camera& camera, double aspect, double ortho_far);
+    // raster_projection · the view, for the viewport's aspect (and its orthographic far plane).
+    glm::dmat4 raster_view_projection(const Camera& camera, const Viewport& viewport, double* ortho_far) const;
 
     std::shared_ptr<gl::ProgramCache> programs_;
     CellMesh mesh_;

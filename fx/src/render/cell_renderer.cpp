@@ -204,6 +204,11 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     projector.prepare_draw(camera, viewport); // the GPU's tables (and culled cells) for this mesh and view
     end_stage(kStageTables, start);
     gl::RenderTarget& target = m.target_for(path, viewport.width, viewport.height);
+    // Only the pixels the mesh can cover are cleared, drawn and resolved: a small mesh in a large
+    // frame pays for its own pixels (what lies outside them in the target is never read).
+    const glm::ivec4 rect = projector.screen_rect(camera, viewport);
+    glEnable(GL_SCISSOR_TEST);
+    glScissorIndexed(0, rect.x, rect.y, rect.z, rect.w);
     start = begin_stage(kStageClear);
     target.clear(glm::vec4(0.0f));
     end_stage(kStageClear, start);
@@ -250,6 +255,7 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
     const bool fog = options.fog && path == RenderPath::PcpExact;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(host_framebuffer));
     glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glScissorIndexed(0, viewport.x + rect.x, viewport.y + rect.y, rect.z, rect.w);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDisable(GL_CULL_FACE);
     glEnablei(GL_BLEND, 0);
