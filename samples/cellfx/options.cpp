@@ -154,6 +154,8 @@ const std::vector<NumericOption> kNumericOptions = {
     {"bench render", "size", K::Size, 1, kMaxImageSide, false, "image-pixels", "image width x height (WxH)"},
     {"bench render", "threads", K::Integer, 1, 256, false, nullptr, "scan-line worker threads"},
     {"bench render", "density", K::Number, 0, 1e300, false, nullptr, "factor on the extinction (as render's)"},
+    {"bench render", "planar-tolerance", K::Number, -1, 1, false, nullptr,
+     "the exact paths' planar test, a fraction of a cell's size (negative: no cell is planar)"},
     {"bench accuracy", "frames", K::Integer, 1, kMaxRepeat, false, nullptr, "frames timed per flavour"},
     {"bench flicker", "frames", K::Integer, 2, kMaxRepeat, false, nullptr, "frames of the flight (consecutive pairs compared)"},
     {"bench flicker", "time", K::Number, -1e6, 1e6, false, nullptr, "scene time of the first frame in seconds"},

@@ -226,6 +226,38 @@ void AbsorptionPass::ensure_preintegration_table() {
     preintegration_ready_ = true;
 }
 
+void AbsorptionPass::upload(bool exact) {
+    if (exact) {
+        ensure_preintegration_table();
+        projector_.upload_pieces(pieces_);
+        exact_list_.upload(list_cells_, {});
+        return;
+    }
+    ensure_opacity_table();
+    // The runs' vertices and indices one after the other (each run's indices count from its
+    // first vertex: drawn with that base vertex).
+    resize_kept(run_vertices_, chunks_ + 1);
+    resize_kept(run_indices_, chunks_ + 1);
+    run_vertices_[0] = run_indices_[0] = 0;
+    for (std::size_t t = 0; t < chunks_; ++t) {
+        run_vertices_[t + 1] = run_vertices_[t] + parts_[t].vertices.size();
+        run_indices_[t + 1] = run_indices_[t] + parts_[t].indices.size();
+    }
+    frame_.reserve(run_vertices_[chunks_] * sizeof(ClassicVertex));
+    index_.reserve(run_indices_[chunks_] * sizeof(std::uint32_t));
+    glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
+    glVertexArrayElementBuffer(vao_.id(), index_.id());
+    for (std::size_t t = 0; t < chunks_; ++t) {
+        const ClassicGeometry& part = parts_[t];
+        if (part.indices.empty()) continue;
+        glNamedBufferSubData(frame_.id(), GLintptr(run_vertices_[t] * sizeof(ClassicVertex)),
+                             GLsizeiptr(part.vertices.size() * sizeof(ClassicVertex)), part.vertices.data());
+        glNamedBufferSubData(index_.id(), GLintptr(run_indices_[t] * sizeof(std::uint32_t)),
+                             GLsizeiptr(part.indices.size() * sizeof(std::uint32_t)), part.indices.data());
+    }
+    FX_GL_CHECK("absorption upload");
+}
+
 void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                           CellRenderStats& stats) {
     // Scene depth: the renderer binds the texture; the mode and ranges are per program.
@@ -237,9 +269,6 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front
     if (exact) {
-        ensure_preintegration_table();
-        projector_.upload_pieces(pieces_);
-        exact_list_.upload(list_cells_, {});
         projector_.set_view_uniforms(exact_program, camera, viewport);
         const GLuint p = exact_program.id();
         glProgramUniform3f(p, kUniformPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
@@ -257,7 +286,6 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
         FX_GL_CHECK("absorption-exact draw");
         return;
     }
-    ensure_opacity_table();
     glBindTextureUnit(kUnitOpacity, opacity_.id());
     glBindSampler(kUnitOpacity, 0);
     glProgramUniform1i(classic.id(), kUniformOpacitySize, kOpacitySizeTexels);
@@ -265,13 +293,11 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     glDisable(GL_CULL_FACE);
     glBindVertexArray(vao_.id());
     for (std::size_t t = 0; t < chunks_; ++t) {
-        const ClassicGeometry& part = parts_[t];
-        if (part.indices.empty()) continue;
-        frame_.upload(part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
-        if (index_.upload(part.indices.data(), part.indices.size() * sizeof(std::uint32_t)))
-            glVertexArrayElementBuffer(vao_.id(), index_.id());
-        glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
-        glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
+        const std::size_t count = run_indices_[t + 1] - run_indices_[t];
+        if (count == 0) continue;
+        glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(count), GL_UNSIGNED_INT,
+                                 reinterpret_cast<const void*>(run_indices_[t] * sizeof(std::uint32_t)),
+                                 GLint(run_vertices_[t]));
         stats.draw_calls += 1;
     }
     FX_GL_CHECK("absorption draw");

@@ -64,8 +64,11 @@ public:
     // The classic flavour's projection runs through `parallel_for`.
     void prepare(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                  const ParallelFor& parallel_for, CellRenderStats& stats);
-    // GL work of the frame prepared last, into the bound target (cleared to 0). With
-    // options.scene_depth the renderer has bound the scene's depth texture to unit 3.
+    // Sends the frame prepared last to the GL (and the flavour's table, made on first use).
+    void upload(bool exact);
+    // GL work of the frame prepared and uploaded last, into the bound target (cleared to 0); may
+    // be called again for the same frame. With options.scene_depth the renderer has bound the
+    // scene's depth texture to unit 3.
     void draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
               CellRenderStats& stats);
 
@@ -111,7 +114,8 @@ private:
     GlCellList exact_list_;
 
     gl::VertexArray vao_; // classic: its element buffer is index_
-    gl::GrowingBuffer frame_, index_;
+    gl::GrowingBuffer frame_, index_; // classic: every run's vertices and indices, one after the other
+    std::vector<std::size_t> run_vertices_, run_indices_; // classic: where each run starts in them (+ the end)
     gl::Texture opacity_, preintegration_;
     gl::Buffer preintegration_buffer_, opacity_buffer_;
     bool opacity_ready_ = false, preintegration_ready_ = false;
