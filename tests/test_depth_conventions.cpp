@@ -95,9 +95,7 @@ TEST_CASE("Every common depth set-up hides the fire behind the game's box, exact
                 // The box pixels are the game's alone: the normalized depth puts it in front of the
                 // whole fire, in every convention (no trace of fire, not one bit).
                 CHECK(box_error(frame) == 0.0f);
-                const effects_test::FrameCheck e =
-                    effects_test::check_frame("depth_convention", frame, expected, fx::RenderPath::PcpExact, 20);
-                CHECK(e.finite);
+                effects_test::check_frame("depth_convention", frame, expected, fx::RenderPath::PcpExact, 20);
             }
         }
     }
@@ -127,11 +125,8 @@ TEST_CASE("With cellfx's terrain, reversed-Z multisampled depth gives the standa
     const fx::Image reversed_ms = frame(reversed_z.projection, GL_DEPTH_COMPONENT32F, 4);
     CHECK(box_error(standard) == 0.0f);
     CHECK(box_error(reversed_ms) == 0.0f);
-    const fx_test::ImageDifference d = fx_test::compare_images(reversed_ms, standard);
-    if (d.max_delta > 1e-6f)
-        INFO("images: " << fx_test::write_failure_images("depth_terrain_reversed", reversed_ms, standard, 10.0f));
-    // Bound 1e-6: the same draws, the box's normalized depth differing by float rounding only.
-    CHECK(d.max_delta <= 1e-6f);
+    fx_test::check_image("depth_terrain_reversed", reversed_ms, standard,
+                         verify::same_picture(1e-6, "the same draws, the box's normalized depth differing by float rounding only"));
     std::size_t terrain_pixels = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) terrain_pixels += !in_box(x, y) && glm::length(standard.at(x, y) - kSky) > 0.01f;
@@ -200,9 +195,7 @@ TEST_CASE("A y-up game sees the frame a z-up game sees, and attaches effects in 
     const fx::Image z_frame = frame(z_up, scene.camera), y_frame = frame(y_up, cam_y);
     // The rotation between the frames is exact in floating point (a permutation and a sign):
     // the same bits.
-    const fx_test::ImageDifference d = fx_test::compare_images(y_frame, z_frame);
-    if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("world_up_y", y_frame, z_frame, 10.0f));
-    CHECK(d.max_delta == 0.0f);
+    fx_test::check_image("world_up_y", y_frame, z_frame, verify::same_picture(0.0, "an exact rotation: the same bits"));
     CHECK(y_up.effect<fx::Campfire>("fire")->transform() == z_up.effect<fx::Campfire>("fire")->transform());
     const fx::Camera back = y_up.scene_camera();
     CHECK(back.eye == cam_y.eye);

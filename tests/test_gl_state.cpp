@@ -368,9 +368,7 @@ TEST_CASE("render() leaves every GL state of a caching renderer as it was, and d
                 const fx::Image calm = module_frame(fx, multisample, false);
                 const fx::Image hostile = module_frame(fx, multisample, true);
                 // The same GL commands under cellfx's own defaults: the same pixels, exactly.
-                const fx_test::ImageDifference d = fx_test::compare_images(hostile, calm);
-                if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("gl_state_frame", hostile, calm, 10.0f));
-                CHECK(d.max_delta == 0.0f);
+                fx_test::check_image("gl_state_frame", hostile, calm, verify::same_picture(0.0, "the same GL commands"));
                 std::size_t lit = 0;
                 for (const glm::vec4& p : calm.pixels) lit += p.r > 0.3f;
                 CHECK(lit > 50); // the fire is there
@@ -406,9 +404,7 @@ TEST_CASE("The one medium (froxel grid, exact lists) and the reduced resolutions
             REQUIRE(fx.stats().medium.pixels > 0);
             REQUIRE(fx.stats().medium.method == method);
             const fx::Image hostile = module_frame(fx, false, true);
-            const fx_test::ImageDifference d = fx_test::compare_images(hostile, calm);
-            if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("gl_state_medium", hostile, calm, 10.0f));
-            CHECK(d.max_delta == 0.0f);
+            fx_test::check_image("gl_state_medium", hostile, calm, verify::same_picture(0.0, "the same GL commands"));
         }
 }
 

@@ -47,9 +47,7 @@ fx::Image frame(cellfx::Module& fx) {
 }
 
 void check_same(const std::string& name, const fx::Image& actual, const fx::Image& expected) {
-    const fx_test::ImageDifference d = fx_test::compare_images(actual, expected);
-    if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images(name, actual, expected, 10.0f));
-    CHECK(d.max_delta == 0.0f);
+    fx_test::check_image(name, actual, expected, verify::same_picture(0.0, "the same effects in the same state"));
 }
 
 std::size_t lit_pixels(const fx::Image& image) {
@@ -200,7 +198,7 @@ TEST_CASE("A reload parses first, swaps on success, and keeps the clock, parent 
     reference.set_path("fire", fx::RenderPath::Mip);
     const fx::Image reloaded = frame(fx);
     check_same("reload_fixed", reloaded, frame(reference));
-    CHECK(fx_test::compare_images(reloaded, running).max_delta > 0.01f); // and it is the new fire
+    CHECK(verify::measure(reloaded, running).worst.delta > 0.01); // and it is the new fire
 }
 
 TEST_CASE("Config::parallel_for runs the effects' simulation on the host's job system, frames unchanged",

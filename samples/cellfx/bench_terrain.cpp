@@ -31,6 +31,7 @@
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -146,18 +147,15 @@ void bench_lod(int size, const std::vector<double>& bounds, int frames) {
 // Fraction of pixels whose 8-bit colour differs between two frames by more than `levels`
 // (0: any difference at all).
 double changed_fraction(const fx::Image& a, const fx::Image& b, int levels) {
-    std::size_t changed = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            const int qa = int(std::lround(std::clamp(a.pixels[i][c], 0.0f, 1.0f) * 255.0f));
-            const int qb = int(std::lround(std::clamp(b.pixels[i][c], 0.0f, 1.0f) * 255.0f));
-            if (std::abs(qa - qb) > levels) {
-                ++changed;
-                break;
-            }
-        }
-    }
-    return double(changed) / double(a.pixels.size());
+    auto eight_bit = [](fx::Image image) {
+        for (glm::vec4& p : image.pixels) p = glm::round(glm::clamp(p, 0.0f, 1.0f) * 255.0f) / 255.0f;
+        return image;
+    };
+    verify::Tolerance t;
+    t.pixel.absolute = (levels + 0.5) / 255.0; // whole steps apart: more than `levels` of them
+    verify::Options rgb;
+    rgb.channels = 3;
+    return verify::measure(eight_bit(a), eight_bit(b), t, rgb).share_beyond();
 }
 
 void bench_pixels(int size, const std::vector<double>& bounds, int views, int frames) {
