@@ -233,7 +233,9 @@ struct CachingRenderer {
         glScissorIndexed(0, 1, 2, 3, 4);
         glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE); // reversed-Z's depth mode, flipped origin
         glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_GREATER);
+        // (Not GL_GREATER: with GL_ZERO_TO_ONE that is a reversed-Z game's state, which render()
+        // holds against target.depth — test_depth_conventions.cpp.)
+        glDepthFunc(GL_NOTEQUAL);
         glDepthMask(GL_FALSE);
         glClearDepth(0.0);
         glClearColor(0.7f, 0.1f, 0.6f, 0.5f);
