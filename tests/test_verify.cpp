@@ -41,6 +41,10 @@ TEST_CASE("verify: figures relative to the reference's peak", "[verify]") {
     actual.at(3, 2) = glm::vec4(0.0f, 0.0f, 0.0f, 0.02f);
     const verify::Difference d = verify::measure(actual, expected);
     CHECK(d.peak == 2.0);
+    CHECK(verify::peak(expected) == 2.0);
+    verify::Options alpha_left_out;
+    alpha_left_out.channels = 3;
+    CHECK(verify::peak(actual, alpha_left_out) == Approx(1.9)); // its alpha 0.02 is not compared
     CHECK(d.worst.x == 1);
     CHECK(d.worst.y == 1);
     CHECK(d.worst.delta == Approx(0.1).epsilon(1e-6));

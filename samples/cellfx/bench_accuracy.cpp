@@ -400,10 +400,11 @@ ImageError image_error(const fx::Image& actual, const fx::Image& reference, cons
     return e;
 }
 
+// The largest colour value (RGB).
 double peak_of(const fx::Image& img) {
-    double peak = 0.0;
-    for (const glm::vec4& p : img.pixels) peak = std::max({peak, double(p.r), double(p.g), double(p.b)});
-    return peak;
+    verify::Options rgb;
+    rgb.channels = 3;
+    return verify::peak(img, rgb);
 }
 
 // Pixels the reference covers (any channel above 1e-4 of its peak) that the frame leaves at 0.

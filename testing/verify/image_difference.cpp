@@ -77,22 +77,23 @@ void check_inputs(const fx::Image& actual, const fx::Image& expected, const Opti
                         " entries for " + std::to_string(expected.pixels.size()) + " pixels");
 }
 
-double peak_of(const fx::Image& expected, const Options& options) {
-    double peak = 0.0;
-    for (std::size_t i = 0; i < expected.pixels.size(); ++i)
-        if (!skipped(options, i))
-            for (int c = 0; c < options.channels; ++c) peak = std::max(peak, expected_value(expected, i, c, options));
-    return peak;
-}
 
 } // namespace
+
+double peak(const fx::Image& image, const Options& options) {
+    double p = 0.0;
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+        if (!skipped(options, i))
+            for (int c = 0; c < options.channels; ++c) p = std::max(p, expected_value(image, i, c, options));
+    return p;
+}
 
 Difference measure(const fx::Image& actual, const fx::Image& expected, const Tolerance& tolerance,
                    const Options& options) {
     check_inputs(actual, expected, options);
     Difference d;
     d.width = actual.width, d.height = actual.height, d.channels = options.channels;
-    d.peak = peak_of(expected, options);
+    d.peak = peak(expected, options);
     double sum = 0.0, squares = 0.0;
     for (int y = 0; y < actual.height; ++y) {
         for (int x = 0; x < actual.width; ++x) {
@@ -165,7 +166,7 @@ std::string describe(const Difference& d) {
 std::string write_images(const std::string& prefix, const fx::Image& actual, const fx::Image& expected,
                          const Tolerance& tolerance, const Options& options) {
     check_inputs(actual, expected, options);
-    const double peak = peak_of(expected, options);
+    const double peak = verify::peak(expected, options);
     // |difference| scaled so that the per-pixel bound at the peak is a quarter of full scale
     // (10% of peak where the bound is 0).
     const double bound = tolerance.pixel.at(peak, peak);

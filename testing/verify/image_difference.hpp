@@ -93,6 +93,9 @@ struct Difference {
 // Throws fx::Error when the sizes differ.
 Difference measure(const fx::Image& actual, const fx::Image& expected, const Tolerance& tolerance,
                    const Options& options = {});
+// The largest value of `image` in the compared channels (what the figures are relative to when
+// it is the reference).
+double peak(const fx::Image& image, const Options& options = {});
 // The figures alone (no per-pixel bound: nothing beyond).
 Difference measure(const fx::Image& actual, const fx::Image& expected, const Options& options = {});
 
