@@ -268,6 +268,7 @@ TEST_CASE("Every try_ form does what its throwing form does, and refuses what it
         check_refused(idle.try_update(0.0, fx::Camera{}), thrown([&] { idle.update(0.0, fx::Camera{}); }), "init");
         check_refused(idle.try_set_time(1.0), thrown([&] { idle.set_time(1.0); }), "init");
         check_refused(idle.try_set_terrain_drawn(false), thrown([&] { idle.set_terrain_drawn(false); }), "init");
+        CHECK_THAT(thrown([&] { idle.renderer(); }), Catch::Contains("init"));
     }
 
     // The same changes through the throwing forms (`thrower`) and the try_ forms (`tried`): the
@@ -315,6 +316,14 @@ TEST_CASE("Every try_ form does what its throwing form does, and refuses what it
                   thrown([&] { thrower.set_parent_transform("smoke", moved); }), "smoke");
     CHECK(tried.time() == 1.5);
     check_same("try_refused", frame(tried), changed);
+
+    // enabled() follows set_enabled; renderer(), the escape hatch, holds the module's effects.
+    CHECK(tried.enabled("fire"));
+    CHECK(tried.try_set_enabled("fire", false));
+    CHECK_FALSE(tried.enabled("fire"));
+    CHECK_THAT(thrown([&] { tried.enabled("smoke"); }), Catch::Contains("smoke"));
+    CHECK(tried.renderer().find_effect("fire") == static_cast<fx::Effect*>(tried.effect<fx::Campfire>("fire")));
+    CHECK(tried.renderer().find_effect("smoke") == nullptr);
 
     // A scene without terrain refuses to draw one.
     cellfx::Module bare = started(fire_scene(false));
