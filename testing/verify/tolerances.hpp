@@ -4,7 +4,8 @@
 //
 // Each path is compared with the reference of its own optical model: emission for pcp and
 // pcp-exact, maximum for mip, emission–absorption for the fog flavour and both absorption paths
-// (model_of). docs/accuracy.md ("Tolerances") prints the table and the measured errors.
+// (model_of). docs/accuracy.md ("Tolerances") prints the table; the measured errors are in the
+// docs of each path (render_paths.md, absorption.md, effects.md) and printed by the tests.
 #pragma once
 
 #include <string>
