@@ -88,30 +88,30 @@ CellRenderer::CellRenderer(const CellMesh& mesh, const std::string& scalar_name,
 }
 
 void CellRenderer::set_mesh(const CellMesh& mesh, const std::string& scalar_name) {
-    // The absorption pass's subdivision, sorts and tables belong to the old mesh; the other
-    // passes keep only per-frame scratch and stay (with their storage) while the kind of cells does.
-    impl_->absorption.reset();
+    // Every pass stays (with its storage) while the kind of cells does: the absorption pass
+    // rebuilds its subdivision, sorts and tables in place for the new mesh; the others keep only
+    // per-frame scratch.
     const int vertices_per_cell = impl_->projector->vertices_per_cell();
     impl_->projector->set_mesh(mesh, scalar_name);
     if (impl_->projector->vertices_per_cell() != vertices_per_cell) impl_->cell_kind_changed();
+    else if (impl_->absorption) impl_->absorption->mesh_changed();
 }
 
 bool CellRenderer::update_mesh(const CellMesh& mesh, const std::string& scalar_name, const MeshChanges& changes) {
-    // The absorption pass's subdivision, sorts and tables belong to the old mesh.
-    impl_->absorption.reset();
     const int vertices_per_cell = impl_->projector->vertices_per_cell();
     const bool in_place = impl_->projector->update_mesh(mesh, scalar_name, changes);
     if (impl_->projector->vertices_per_cell() != vertices_per_cell) impl_->cell_kind_changed();
+    else if (impl_->absorption) impl_->absorption->mesh_changed();
     return in_place;
 }
 
 void CellRenderer::set_culling(bool culling) { impl_->projector->set_culling(culling); }
 
 void CellRenderer::set_scalars(const std::vector<float>& values) {
-    // The absorption paths' state (working mesh, sorts, tables) depends on the geometry and the
-    // transfer function only; their builders read the scalars from the projector's geometry.
-    const bool function_changed = impl_->projector->set_scalars(values);
-    if (function_changed && impl_->absorption) impl_->absorption->transfer_function_changed();
+    // The absorption paths' state (working mesh, sorts) depends on the geometry only; their
+    // builders read the scalars from the projector's geometry, and the pass sees a changed
+    // transfer function (a normalized one follows the range) itself.
+    impl_->projector->set_scalars(values);
 }
 
 void CellRenderer::set_parallel_for(const ParallelFor& parallel_for) { impl_->parallel_for = parallel_for; }
@@ -128,8 +128,7 @@ std::size_t CellRenderer::gpu_bytes() const {
 }
 
 void CellRenderer::set_transfer_function(const TransferFunction& tf) {
-    impl_->projector->set_transfer_function(tf);
-    if (impl_->absorption) impl_->absorption->transfer_function_changed();
+    impl_->projector->set_transfer_function(tf); // the absorption pass sees it at its next frame
 }
 
 gl::RenderTarget& CellRenderer::Impl::target_for(RenderPath path, int width, int height) {
