@@ -93,7 +93,7 @@ public:
     void request_accuracy(double scale) { accuracy_request_ = scale; }
     const AccuracyCheck& accuracy() const { return accuracy_; }
     void cancel_accuracy() { accuracy_.cancel(); }
-    void wait_for_accuracy();                  // until the running check is in (headless runs)
+    void wait_for_accuracy(); // until the check started is in, its result taken (none started: returns)
     const std::optional<AccuracyResult>& accuracy_result() const { return accuracy_result_; }
     std::uint64_t accuracy_results() const { return accuracy_count_; } // checks finished so far
     const FrameHistory& history() const { return history_; }

@@ -65,11 +65,12 @@ std::string accuracy_note(const FrameLoop& loop) {
 
 // The end of a --frames run: the accuracy check waited for (before the last frame, so that it
 // shows the result) and the scene saved (after it).
+// (Waited for whether or not it still runs: one that finished unseen is taken in too.)
 void before_last_frame(FrameLoop& loop, const SampleOptions& options) {
-    if (options.accuracy && loop.accuracy().running()) loop.wait_for_accuracy();
+    if (options.accuracy) loop.wait_for_accuracy();
 }
 int after_last_frame(FrameLoop& loop, const SampleOptions& options) {
-    if (options.accuracy && loop.accuracy().running()) loop.wait_for_accuracy(); // one frame: it started in it
+    if (options.accuracy) loop.wait_for_accuracy(); // one frame: it started in it
     if (!options.save.empty()) loop.save();
     if (options.accuracy && loop.accuracy_results() == 0) {
         std::fprintf(stderr, "%s: error: the accuracy check gave no result (%s)\n", loop.name().c_str(), loop.message().c_str());
