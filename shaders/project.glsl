@@ -82,9 +82,11 @@ vec4 segment_integral(float s_front, float s_back, float l) {
     vec4 middle = table(0, int(i1)) - table(0, int(max(i0 + 1.0, 0.0)));
     // In units of x (samples): the partial cells, the whole ones (E per unit s times u_table.w),
     // each weighted by l/(x1 − x0) before the sum: an end far beyond the table (a held value
-    // times a huge run) would overflow the sum, while its share of l cannot.
+    // times a huge run) would overflow the sum, while its share of l cannot. The whole cells'
+    // weight is formed before it meets E: E times u_table.w alone reaches c·σ times the
+    // samples, past float's range where c·σ peaks near 1e38 between two points.
     float per_x = l / (x1 - x0);
-    vec4 total = mean0 * ((i0 + 1.0 - x0) * per_x) + (middle * u_table.w) * per_x + mean1 * ((x1 - i1) * per_x);
+    vec4 total = mean0 * ((i0 + 1.0 - x0) * per_x) + middle * (u_table.w * per_x) + mean1 * ((x1 - i1) * per_x);
     return i0 == i1 ? mean0 * l : total;
 }
 

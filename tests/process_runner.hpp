@@ -32,6 +32,10 @@ constexpr bool kAddressSpaceLimited = true;
 struct RunLimits {
     std::uint64_t address_space = std::uint64_t(2) << 30; // bytes (RLIMIT_AS)
     double seconds = 60.0;                                // killed (SIGKILL) after this long
+    // Bytes any file it writes may reach (RLIMIT_FSIZE; 0: no limit). SIGXFSZ is ignored, so
+    // the write that crosses it fails with EFBIG — a disk filling part way through a file.
+    // Its stdout and stderr go to a file too: keep what it prints below the limit.
+    std::uint64_t file_size = 0;
 };
 
 struct RunResult {
@@ -69,6 +73,11 @@ inline RunResult run_limited(const std::function<int()>& child, const RunLimits&
         if (kAddressSpaceLimited) { // else the budgets still refuse what they refuse; only the peak is unbounded
             const rlimit as{limits.address_space, limits.address_space};
             setrlimit(RLIMIT_AS, &as);
+        }
+        if (limits.file_size > 0) {
+            std::signal(SIGXFSZ, SIG_IGN); // stays ignored across exec
+            const rlimit fsize{limits.file_size, limits.file_size};
+            setrlimit(RLIMIT_FSIZE, &fsize);
         }
         dup2(out, 1);
         dup2(out, 2);

@@ -198,6 +198,22 @@ TEST_CASE("hard cases: the near plane through a vertex", "[gl][hard]") {
     }
 }
 
+TEST_CASE("hard cases: a near plane of 1e-300 (or 1e-38, 1e-12) with the eye inside the mesh", "[gl][hard]") {
+    // A library caller's near is any positive number, not fitted to the mesh as the CLI fits
+    // it. Every path cuts at Camera::clipping_near: no nearer than 1e-9 of the mesh's size,
+    // which leaves out at most 1e-9 of a ray (the closed form starts at the eye itself). The
+    // scan-line reference drew nothing from near = 1e-38 inside a mesh of size 1 (its float
+    // screen depth of the near plane overflowed), the GPU paths drew the picture.
+    const LinearBox box = unit_box();
+    const fx::CellMesh mesh = hard_case::box_mesh(box, {4, 4, 4});
+    for (double near_d : {1e-12, 1e-38, 1e-300}) {
+        const fx::Camera cam = perspective({0.37, 0.62, 0.41}, {0.9, 0.2, 0.6}, near_d);
+        const std::string name = "near_" + std::to_string(int(std::log10(near_d)));
+        hard_case::check_closed_form(name, scene(mesh, cam), box, hard_case::kAllPaths, {kClassicAtTheEye});
+        check_orthographic_twin(name, scene(mesh, cam), box);
+    }
+}
+
 TEST_CASE("hard cases: slivers and zero-volume cells", "[gl][hard]") {
     const LinearBox box = unit_box();
     const fx::Camera cam = perspective({1.8, -1.2, 1.6}, {0.5, 0.5, 0.45});

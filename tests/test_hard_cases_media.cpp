@@ -110,3 +110,33 @@ TEST_CASE("hard cases: huge (1e7) and tiny (1e-7) scalar ranges", "[gl][hard]") 
         }
     }
 }
+
+TEST_CASE("hard cases: emission c*sigma peaking near 1e38 between two points", "[gl][hard]") {
+    // Colour falls from 1e6 to 0 while extinction rises from 0 to 1e32 (each at the bound a
+    // transfer function may reach): c·σ is 0 at both points and 2.5e37 half way. The float
+    // tables' check (the points' c·σ times the samples, the integral over the range) passes it.
+    // pcp-exact's segment_integral multiplied the whole cells' emission by the table's samples
+    // per unit s before weighting it by the segment (2.5e37 times up to 4095): saturated pixels
+    // of 3.4e38 where the reference has 2.9e37, and NaN in the fog flavour. Every value here
+    // is far outside [0, 1]: each path against its model's closed form, relative to the peak.
+    // Three paths are outside their stated model here and must stay finite (the fog flavour
+    // drew NaN): classic pcp's 8-bit target saturates; mip looks for the maximum at a
+    // segment's ends, and this c·σ peaks inside; the fog caps a cell's optical depth at 1e30
+    // (docs/robustness.md), and σ reaches 1e32 here.
+    const fx::TransferFunction peak({{0.0, glm::dvec3(1e6), 0.0}, {1.1, glm::dvec3(0.0), 1e32}});
+    const hard_case::Scene s = box_scene(unit_box(), peak);
+    for (Path p : hard_case::kAllPaths) {
+        INFO("c_sigma_peak [" << hard_case::name(p) << "]");
+        const fx::Image expected = hard_case::closed_form(s, unit_box(), p);
+        const fx::Image actual = hard_case::render(s, p);
+        const hard_case::Tolerance tol = hard_case::stated_tolerance(p, s.cells_on_ray);
+        if (p == Path::Pcp || p == Path::Mip || p == Path::PcpExactFog) {
+            const hard_case::Measured m = hard_case::measure(actual, expected, tol);
+            hard_case::report("c_sigma_peak (outside its stated model: finite only)", p, m);
+            CHECK(m.finite);
+            continue;
+        }
+        const hard_case::Measured m = hard_case::check("c_sigma_peak", p, actual, expected, tol, /*unit_range=*/false);
+        CHECK(m.peak > 1e5); // the closed form's values are as large as the case says
+    }
+}

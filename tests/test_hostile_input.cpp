@@ -13,7 +13,9 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -55,6 +57,13 @@ std::string dir() {
     return d;
 }
 std::string file(const std::string& name) { return dir() + "/" + name; }
+
+// "10" rather than "10.000000": the form `cellfx limits` prints.
+std::string format_double(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
 
 std::string write(const std::string& name, const std::string& text) {
     const std::string path = file(name);
@@ -331,6 +340,30 @@ TEST_CASE("hostile input: settings that used to give a silent wrong picture", "[
         require_accepted(run_cellfx(scanline(mesh, file("up_tiny.pfm"), {"--camera", view + "1e-300"})));
         CHECK(mean_value(file("up_1.pfm")) > 0.001);
         CHECK(max_difference(file("up_1.pfm"), file("up_tiny.pfm")) == 0.0);
+        // Every GPU path takes the frame Camera::basis builds in double: the same picture with an
+        // up of 1e-300 or 1e300 as with 1 (pcp drew garbage, pcp-exact nothing, absorption-exact
+        // 4x too bright with 1e-300, as they normalised the raw up in place).
+        for (const char* path : {"pcp", "pcp-exact", "mip", "absorption", "absorption-exact"}) {
+            INFO(path);
+            const std::string one = file(std::string("up_1_") + path + ".pfm");
+            require_accepted(run_cellfx({"render", mesh, "--path", path, "--size", "48x40", "--camera", view + "1", "--out", one}, kGl));
+            CHECK(mean_value(one) > 0.001);
+            for (const char* scale : {"1e-300", "1e300"}) {
+                const std::string scaled = file(std::string("up_") + scale + "_" + path + ".pfm");
+                require_accepted(
+                    run_cellfx({"render", mesh, "--path", path, "--size", "48x40", "--camera", view + scale, "--out", scaled}, kGl));
+                CHECK(max_difference(one, scaled) == 0.0);
+            }
+        }
+        // A scene: its campfire in the one medium and its frustum culling see the same frame.
+        const auto fire = [&](const std::string& name, const std::string& up) {
+            const std::string scene = scene_with_camera(name + ".json", R"({"eye": [3, -4, 2], "target": [0, 0, 0.5], "up": )" + up + "}");
+            require_accepted(run_cellfx({"render", scene, "--out", file(name + ".pfm")}, kGl));
+            return file(name + ".pfm");
+        };
+        const std::string fire_1 = fire("up_fire_1", "[0, 0, 1]");
+        CHECK(mean_value(fire_1) > 0.001);
+        CHECK(max_difference(fire_1, fire("up_fire_tiny", "[0, 0, 1e-300]")) == 0.0);
     }
     SECTION("a camera-path key straight above its target") {
         const std::string scene = effects_scene("path_above.json", campfire(""),
@@ -725,7 +758,39 @@ TEST_CASE("hostile input: messages that say what to fix", "[hostile]") {
         std::string lying = bytes;
         lying[23] = char(lying[23] + 16); // the coordinates' opening marker (big-endian, low byte)
         write("lying.xyz", lying);
-        require_refused(run_cellfx({"info", file("lying.xyz")}), {"lying.xyz", "record marker at byte 20"});
+        // Named at the marker's byte as the file's fault, not as "not a PLOT3D grid file".
+        const RunResult r = run_cellfx({"info", file("lying.xyz")});
+        require_refused(r, {"lying.xyz: byte 20: a damaged or lying record marker", "says 304 bytes, but the record holds 288",
+                            "every other record marker agrees"});
+        CHECK_THAT(r.output, !Catch::Contains("not a PLOT3D grid file"));
+    }
+    SECTION("a q file of NaN or Inf is blamed on the q file, not the grid") {
+        fx::Plot3dBlock b;
+        b.dims = {3, 3, 2};
+        for (int i = 0; i < 18; ++i) b.points.push_back(glm::dvec3(i % 3, (i / 3) % 3, i / 9));
+        for (const double bad : {std::nan(""), HUGE_VAL}) {
+            for (std::vector<double>& q : b.q) q.assign(18, bad);
+            const std::string q = file(std::isnan(bad) ? "all_nan.q" : "all_inf.q");
+            fx::write_plot3d({b}, fx::Plot3dFormat{}, file("q_grid.xyz"), q);
+            std::vector<std::string> args = scanline(file("q_grid.xyz"), file("x.pfm"), {"--camera", "eye=4,3,3,target=1,1,0.5"});
+            args.insert(args.begin() + 2, q); // render GRID Q ...
+            const RunResult r = run_cellfx(args);
+            require_refused(r, {q + ": field 'density' is", "at point 0 (and 17 more points)"});
+            CHECK_THAT(r.output, !Catch::Contains("q_grid.xyz: field"));
+        }
+    }
+    SECTION("a scene file with a second file, convert --out naming a folder, 1e999 in a scene") {
+        const std::string scene = effects_scene("alone.json", campfire(""));
+        require_refused(run_cellfx({"render", scene, file("extra.q"), "--out", file("x.png")}),
+                        {"alone.json: a scene file is rendered alone", "extra.q"});
+        const std::string mesh = write_vtk("convert_me.vtk", fx_test::hex_box(1, 1, 1));
+        std::filesystem::create_directories(file("a_folder.vtk"));
+        require_refused(run_cellfx({"convert", mesh, "--out", file("a_folder.vtk")}), {"--out", "a_folder.vtk: is a folder, not a file"});
+        require_refused(run_cellfx({"convert", mesh, "--out", dir()}), {"--out", "is a folder, not a file"});
+        require_refused(run_cellfx({"convert", mesh, "--out", file("mesh.txt")}), {"--out", "mesh.txt", "FILE.vtk"});
+        const std::string huge = effects_scene("e999.json", campfire(", \"base_radius\": 1e999"));
+        require_refused(run_cellfx({"render", huge, "--out", file("x.png")}),
+                        {"e999.json: byte", "(at effects[0].base_radius)", "the number 1e999 is beyond the range of a double"});
     }
     SECTION("vertical_scale and an aurora ceiling of 1e300, named by key") {
         const std::string st_helens = fx_test::source_path("content/terrain/st_helens_257.png");
@@ -750,6 +815,130 @@ TEST_CASE("hostile input: messages that say what to fix", "[hostile]") {
         require_refused(run_cellfx({"info", file("no_such_file.vtk")}), {"no_such_file.vtk", "cannot open the mesh file"});
         require_refused(run_cellfx({"info", mesh, "--limit", "cells=5"}), {"unknown limit 'cells'", "mesh-cells"});
     }
+}
+
+TEST_CASE("hostile input: outputs that cannot be written are errors naming the file, nothing half written", "[hostile]") {
+    // Every file cellfx writes goes through io::OutputFile (tests/test_output_file.cpp has the
+    // library's cases). Here the commands: exit 1 and the file and reason named, where they
+    // used to print "wrote ..." and exit 0 for a small PNG to a full disk. The failures are
+    // ones that fail for root too: /dev/full, /sys, a file where a folder belongs, a file-size
+    // limit part way through.
+    const std::string mesh = write_vtk("out_box.vtk", fx_test::hex_box(2, 2, 2));
+    const std::string out = file("outputs");
+    std::filesystem::remove_all(out);
+    std::filesystem::create_directories(out);
+    const auto link_to_full = [&](const std::string& name) {
+        std::filesystem::create_symlink("/dev/full", out + "/" + name);
+        return out + "/" + name;
+    };
+    SECTION("a full disk: render's PNG and PFM, convert's VTK, bench render's JSON") {
+        for (const char* name : {"full.png", "full.pfm"}) {
+            const RunResult r = run_cellfx(scanline(mesh, link_to_full(name)));
+            require_refused(r, {std::string(name) + ": cannot write: No space left on device"});
+            CHECK_THAT(r.output, !Catch::Contains("wrote"));
+        }
+        require_refused(run_cellfx({"convert", mesh, "--out", link_to_full("full.vtk")}),
+                        {"full.vtk: cannot write: No space left on device"});
+        require_refused(run_cellfx({"bench", "render", mesh, "--paths", "pcp-exact", "--views", "1", "--size", "16x16",
+                                    "--json", link_to_full("full.json")},
+                                   kGl),
+                        {"full.json: cannot write: No space left on device"});
+    }
+    SECTION("folders that take no file: refused before the frame is rendered") {
+        write("plain.txt", "a file, not a folder\n");
+        const RunResult r = run_cellfx(scanline(mesh, file("plain.txt") + "/frame.png"));
+        require_refused(r, {"--out", "plain.txt/frame.png: cannot create a file in the folder", "Not a directory"});
+        CHECK_THAT(r.output, !Catch::Contains("scan")); // no frame was rendered
+        require_refused(run_cellfx(scanline(mesh, "/sys/cellfx_frame.png")),
+                        {"--out /sys/cellfx_frame.png: cannot create a file in the folder '/sys'"});
+        require_refused(run_cellfx(scanline(mesh, out + "/missing/frame.png")), {"frame.png", "No such file or directory"});
+        require_refused(run_cellfx({"bench", "accuracy", "--quick", "--out", "/sys/cellfx_accuracy"}),
+                        {"/sys/cellfx_accuracy: cannot create the folder"});
+        require_refused(run_cellfx({"bench", "accuracy", "--quick", "--out", file("plain.txt")}),
+                        {"plain.txt: cannot create the folder"});
+    }
+    SECTION("a disk that fills part way: the last good file stays, no temporary is left") {
+        write("outputs/keep.pfm", "the last good frame\n");
+        RunLimits limited = kCpu;
+        limited.file_size = 64 << 10; // the 256 x 256 PFM needs 768 KiB
+        const RunResult r = run_cellfx(scanline(mesh, out + "/keep.pfm", {"--size", "256x256"}), limited);
+        require_refused(r, {"keep.pfm: cannot write: File too large"});
+        std::ifstream in(out + "/keep.pfm");
+        CHECK(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()) == "the last good frame\n");
+        std::vector<std::string> left;
+        for (const auto& e : std::filesystem::directory_iterator(out)) left.push_back(e.path().filename().string());
+        CHECK(left == std::vector<std::string>{"keep.pfm"});
+    }
+}
+
+TEST_CASE("hostile input: every numeric option is bounded before anything is allocated", "[hostile]") {
+    // `cellfx limits` lists every numeric option of every subcommand with its range; each is
+    // tried here just past its range, under the 2 GiB and 60 s limits, and must be refused by
+    // name before the command reads or builds anything. `bench sort --views 1000000000` and
+    // `--cells 1000000000` grew to 3.8-6.5 GB before an out-of-memory message.
+    const RunResult listed = run_cellfx({"limits"});
+    require_accepted(listed);
+    const std::string mesh = write_vtk("options_box.vtk", fx_test::hex_box(1, 1, 1));
+    const std::string scene = effects_scene("options_scene.json", campfire(""));
+    std::istringstream lines(listed.output.substr(listed.output.find("option ranges")));
+    std::string line;
+    std::getline(lines, line);
+    int tried = 0;
+    while (std::getline(lines, line)) {
+        // "  bench sort --views            2 .. 360   views sorted per mesh"
+        std::istringstream words(line);
+        std::vector<std::string> command;
+        std::string word;
+        while (words >> word && word.rfind("--", 0) != 0) command.push_back(word);
+        REQUIRE_FALSE(command.empty());
+        const std::string option = word;
+        std::string range;
+        std::getline(words, range);
+        // A value just past the range's top ("1 .. 256": 257); a Number's top times ten; the
+        // composite ones their own way.
+        std::string value;
+        if (option == "--size" && range.find("a side") != std::string::npos) value = "16385x1"; // WxH
+        else if (option == "--background") value = "2,0,0";
+        else if (option == "--camera") value = "eye=1e19,0,0";
+        else {
+            const std::size_t dots = range.find(" .. ");
+            if (dots != std::string::npos) {
+                std::istringstream after(range.substr(dots + 4)); // "256 each   thread counts to time"
+                std::string top, next;
+                after >> top >> next;
+                top.erase(std::remove(top.begin(), top.end(), ','), top.end());
+                value = std::to_string(std::stoll(top) + 1);
+                if (next == "each") value = "1," + value; // a list: its second item
+            } else {
+                const std::string top = range.substr(range.find(',') + 2, range.find(']') - range.find(',') - 2);
+                value = format_double(std::stod(top) * 10.0);
+            }
+        }
+        std::vector<std::string> args = command;
+        if (command[0] == "render") {
+            const bool scene_option = option == "--time" || option == "--pixel-error";
+            args.push_back(scene_option ? scene : mesh);
+            args.insert(args.end(), {"--out", file("x.png")});
+        } else if (command[0] == "convert") {
+            args.insert(args.end(), {"--synthetic", "duct", "--out", file("x.vtk")});
+        } else if (command.size() > 1 && command[1] == "render") {
+            args.push_back(mesh);
+        }
+        args.insert(args.end(), {option, value});
+        INFO(line);
+        std::string shown;
+        for (const std::string& a : args) shown += a + " ";
+        INFO(shown);
+        const RunResult r = run_cellfx(args);
+        require_refused(r, {option});
+        CHECK_THAT(r.output, Catch::Contains("outside") || Catch::Contains("beyond") || Catch::Contains("over the"));
+        ++tried;
+    }
+    CHECK(tried >= 30);
+    // Within the range, over the budget: named by the limit, raised by --limit.
+    require_refused(run_cellfx({"bench", "sort", "--cells", "1000000000"}), {"bench sort --cells 1000000000", "mesh-cells limit"});
+    require_refused(run_cellfx({"bench", "sort", "--views", "1000000000"}), {"bench sort --views", "outside 2 .. 360"});
+    require_refused(run_cellfx({"bench", "terrain", "--sizes", "8193"}), {"--sizes 8193", "height-samples limit"});
 }
 
 TEST_CASE("hostile input: the fem_viewer sample reads files through the same budgets", "[hostile]") {

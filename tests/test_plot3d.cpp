@@ -246,6 +246,39 @@ TEST_CASE("PLOT3D bad input: errors name the file, the byte or block, and the pr
     }
 }
 
+TEST_CASE("PLOT3D a record marker that lies is named at its byte, not read as another layout", "[io][plot3d]") {
+    // The multi-block grid with record markers, float64 (the markers are what tells the
+    // precision): its header and size fit one variant only, so a marker that disagrees is the
+    // file's fault, said at its byte — before, the reader said "not a PLOT3D grid file: no
+    // reading of the header gives plausible block dimensions" and only then the marker.
+    const std::vector<fx::Plot3dBlock> blocks = synthetic_blocks();
+    const fx::Plot3dFormat format{false, true, true, false, true};
+    const std::string good = fx_test::output_path("io_marked.xyz");
+    fx::write_plot3d(blocks, format, good);
+    const std::string bytes = fx_test::read_bytes(good);
+    // Little-endian: the low byte of a marker is its first. Header: 4 + 4 + 4 (count record),
+    // 4 + 24 + 4 (dims record, closing marker at byte 40); block 0's coordinates: marker at
+    // byte 44, 3·24·8 bytes.
+    const std::size_t open0 = 44, close0 = open0 + 4 + 3 * 24 * 8;
+    struct Lie {
+        const char* name;
+        std::size_t byte;
+        const char* says;
+    };
+    for (const Lie& lie : {Lie{"opening block 0's coordinates", open0, "says 592 bytes, but the record holds 576"},
+                           Lie{"closing them", close0, "says 592 bytes, but the record holds 576"},
+                           Lie{"closing the dims record", 40, "(closing the header's dims) says 40 bytes, but the record holds 24"}}) {
+        INFO(lie.name);
+        std::string damaged = bytes;
+        damaged[lie.byte] = char(damaged[lie.byte] + 16);
+        const std::string path = fx_test::write_temp_file("lying.xyz", damaged);
+        const std::string m = fx_test::error_message([&] { fx::read_plot3d(path); });
+        CHECK_THAT(m, Contains(path + ": byte " + std::to_string(lie.byte) + ": a damaged or lying record marker") &&
+                          Contains(lie.says) && Contains("every other record marker agrees"));
+        CHECK_THAT(m, !Contains("not a PLOT3D grid file"));
+    }
+}
+
 TEST_CASE("PLOT3D truncated at many offsets always throws with a location", "[io][plot3d]") {
     for (const char* file : {"blunt_fin/bluntfinxyz.bin", "blunt_fin_2block/multi-bin.xyz"}) {
         const std::string bytes = fx_test::read_bytes(mesh_path(file));

@@ -41,10 +41,37 @@ std::string vec(const glm::dvec3& v) { return "(" + number(v.x) + ", " + number(
 
 } // namespace
 
-glm::dvec3 Camera::forward() const { return unit(target - eye); }
-glm::dvec3 Camera::right() const { return glm::normalize(glm::cross(forward(), unit(up))); }
+Camera::Basis Camera::basis() const {
+    Basis b;
+    b.forward = unit(target - eye);
+    // Both factors are unit vectors at least 1e-6 rad apart (validate()): the cross product is
+    // at least 1e-6 long, and unit() rescales it before its squares are formed.
+    b.right = unit(glm::cross(b.forward, unit(up)));
+    b.up = glm::cross(b.right, b.forward);
+    return b;
+}
 
-glm::dmat4 Camera::view_matrix() const { return glm::lookAt(eye, target, unit(up)); }
+double Camera::clipping_near(double mesh_size) const {
+    return std::max(near_distance, std::isfinite(mesh_size) ? kMinNearFraction * mesh_size : 0.0);
+}
+
+glm::dvec3 Camera::forward() const { return unit(target - eye); }
+glm::dvec3 Camera::right() const { return basis().right; }
+
+glm::dmat4 Camera::view_matrix() const {
+    // glm::lookAt's matrix, from the double basis: rows right, up, −forward.
+    const Basis b = basis();
+    glm::dmat4 m(1.0);
+    for (int i = 0; i < 3; ++i) {
+        m[i][0] = b.right[i];
+        m[i][1] = b.up[i];
+        m[i][2] = -b.forward[i];
+    }
+    m[3][0] = -glm::dot(b.right, eye);
+    m[3][1] = -glm::dot(b.up, eye);
+    m[3][2] = glm::dot(b.forward, eye);
+    return m;
+}
 
 void Camera::validate(std::string_view who) const {
     // Messages are built only on the way out: a frame's check allocates nothing.
@@ -102,9 +129,8 @@ Ray Camera::pixel_ray(double x, double y, int width, int height) const {
         if (orthographic()) return Ray{near_point - direction * near_distance, direction};
         return Ray{eye, direction};
     }
-    const glm::dvec3 f = forward();
-    const glm::dvec3 r = right();
-    const glm::dvec3 u = glm::cross(r, f);
+    const Basis b = basis();
+    const glm::dvec3 &f = b.forward, &r = b.right, &u = b.up;
     const double aspect = static_cast<double>(width) / height;
     // Normalised device coordinates of the point in [-1, 1].
     const double ndc_x = 2.0 * x / width - 1.0;
@@ -119,20 +145,21 @@ Ray Camera::pixel_ray(double x, double y, int width, int height) const {
 
 namespace {
 
-double parse_number(std::string_view text, std::string_view key) {
+double parse_number(std::string_view text, std::string_view key, std::string_view who) {
     const std::string s(text);
     char* end = nullptr;
     const double v = std::strtod(s.c_str(), &end);
     if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
-        throw Error("camera: " + std::string(key) + ": '" + s + "' is not a finite number");
+        throw Error(std::string(who) + ": " + std::string(key) + ": '" + s + "' is not a finite number");
     }
     return v;
 }
 
 } // namespace
 
-Camera Camera::parse(std::string_view spec) {
+Camera Camera::parse(std::string_view spec, std::string_view who) {
     Camera cam;
+    const std::string name(who);
     // Tokens are comma separated; a key=... starts a new value, bare numbers continue a vector.
     std::string key;
     std::vector<double> values;
@@ -140,7 +167,7 @@ Camera Camera::parse(std::string_view spec) {
         if (key.empty()) return;
         auto need = [&](std::size_t n) {
             if (values.size() != n) {
-                throw Error("camera: " + key + " needs " + std::to_string(n) + " number" + (n > 1 ? "s" : "") +
+                throw Error(name + ": " + key + " needs " + std::to_string(n) + " number" + (n > 1 ? "s" : "") +
                             ", got " + std::to_string(values.size()));
             }
         };
@@ -150,12 +177,12 @@ Camera Camera::parse(std::string_view spec) {
         else if (key == "fov") { need(1); cam.fov_y_degrees = values[0]; cam.ortho_height = 0.0; }
         else if (key == "ortho") {
             need(1);
-            if (!(values[0] > 0.0)) throw Error("camera: ortho=" + number(values[0]) + ": the height must be positive");
+            if (!(values[0] > 0.0)) throw Error(name + ": ortho=" + number(values[0]) + ": the height must be positive");
             cam.ortho_height = values[0];
         }
         else if (key == "near") { need(1); cam.near_distance = values[0]; }
         else if (key == "far") { need(1); cam.far_distance = values[0]; }
-        else throw Error("camera: unknown key '" + key + "' (expected eye, target, up, fov, ortho, near, far)");
+        else throw Error(name + ": unknown key '" + key + "' (expected eye, target, up, fov, ortho, near, far)");
         key.clear();
         values.clear();
     };
@@ -170,13 +197,13 @@ Camera Camera::parse(std::string_view spec) {
             key = std::string(token.substr(0, eq));
             token = token.substr(eq + 1);
         } else if (key.empty() && !token.empty()) {
-            throw Error("camera: '" + std::string(token) + "' has no key (write e.g. eye=0,0,5)");
+            throw Error(name + ": '" + std::string(token) + "' has no key (write e.g. eye=0,0,5)");
         }
-        if (!token.empty() || eq != std::string_view::npos) values.push_back(parse_number(token, key));
+        if (!token.empty() || eq != std::string_view::npos) values.push_back(parse_number(token, key, who));
         pos = comma + 1;
     }
     flush();
-    cam.validate("camera");
+    cam.validate(who);
     return cam;
 }
 

@@ -13,6 +13,7 @@
 
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
+#include "io/output_file.hpp"
 
 namespace cellfx::fx {
 
@@ -39,15 +40,19 @@ void write_png(const Image& image, const std::string& path) {
             }
         }
     }
-    if (!stbi_write_png(path.c_str(), image.width, image.height, 4, bytes.data(), image.width * 4)) {
-        throw Error(path + ": cannot write PNG");
-    }
+    // Encoded in memory (stb's callback cannot report a failed write), then written whole.
+    std::string png;
+    const auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 4, bytes.data(), image.width * 4) || png.empty())
+        throw Error(path + ": cannot encode the " + std::to_string(image.width) + "x" + std::to_string(image.height) + " PNG");
+    io::write_output_file(path, png);
 }
 
 void write_pfm(const Image& image, const std::string& path) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw Error(path + ": cannot open for writing");
-    out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+    io::OutputFile out(path);
+    out.write("PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n");
     std::vector<float> row(static_cast<std::size_t>(image.width) * 3);
     for (int y = 0; y < image.height; ++y) { // PFM stores the bottom row first, like Image
         for (int x = 0; x < image.width; ++x) {
@@ -56,9 +61,9 @@ void write_pfm(const Image& image, const std::string& path) {
             row[x * 3 + 1] = p.g;
             row[x * 3 + 2] = p.b;
         }
-        out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(float)));
+        out.write(row.data(), row.size() * sizeof(float));
     }
-    if (!out) throw Error(path + ": write failed");
+    out.commit();
 }
 
 Image read_pfm(const std::string& path) {

@@ -117,9 +117,8 @@ int bench_absorption(const std::vector<std::string>& args) {
     if (!parsed.positional.empty()) throw fx::Error("bench absorption: unexpected argument '" + parsed.positional[0] + "'");
     int width = 256, height = 256;
     if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
-    const int frames = parse_int(parsed.get("frames", "5"), "--frames");
-    if (frames < 1) throw fx::Error("bench absorption: --frames must be at least 1");
-    const int target_cells = parse_int(parsed.get("cells", "1000000"), "--cells");
+    const int frames = int_option(parsed, "bench absorption", "frames", 5);
+    const int target_cells = int_option(parsed, "bench absorption", "cells", 1000000);
     const std::string blunt = parsed.get("blunt-fin", std::string(CELLFX_SOURCE_DIR) + "/content/meshes/blunt_fin");
     const std::string spx = parsed.get("spx", std::string(CELLFX_SHARED_DATA) + "/spx/spx.inp");
     const std::string scenes = parsed.get("scenes", "spx,blunt-fin,box");

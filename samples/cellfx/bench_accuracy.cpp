@@ -43,7 +43,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -69,6 +68,7 @@
 #include "scanline/synthetic_meshes.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/visibility_sort.hpp"
+#include "io/output_file.hpp"
 #include "options.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"
@@ -449,7 +449,7 @@ std::string csv_number(double v) {
 }
 
 void write_csv(const std::string& path, const std::vector<Row>& rows) {
-    std::ofstream out(path);
+    std::ostringstream out;
     out << "scene,flavour,path,sort,model,width,height,cells,frames,frame_ms,gpu_ms,first_frame_ms,rmse,max_abs,"
            "psnr_db,rmse_1spp,max_abs_1spp,reference_peak\n";
     for (const Row& r : rows)
@@ -459,7 +459,7 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
             << csv_number(r.error.rmse) << ',' << csv_number(r.error.max_abs) << ',' << csv_number(r.error.psnr) << ','
             << csv_number(r.point_error.rmse) << ',' << csv_number(r.point_error.max_abs) << ','
             << csv_number(r.reference_peak) << '\n';
-    if (!out) throw fx::Error("bench accuracy: cannot write " + path);
+    fx::io::write_output_file(path, out.str());
 }
 
 std::string fixed(double v, int digits) {
@@ -487,7 +487,7 @@ std::string ms_text(double ms) { return ms >= 100.0 ? fixed(ms, 0) : ms >= 10.0 
 
 void write_markdown(const std::string& path, const std::vector<BenchScene>& scenes, const std::vector<Row>& rows,
                     const std::string& header) {
-    std::ofstream out(path);
+    std::ostringstream out;
     out << header << "\n";
     for (const BenchScene& s : scenes) {
         out << "\n### " << s.name << "\n\n" << s.note << "; " << s.width << "×" << s.height << ".\n\n";
@@ -502,7 +502,7 @@ void write_markdown(const std::string& path, const std::vector<BenchScene>& scen
                 << " |\n";
         }
     }
-    if (!out) throw fx::Error("bench accuracy: cannot write " + path);
+    fx::io::write_output_file(path, out.str());
 }
 
 // gnuplot: one panel per scene, x = ms per frame, y = RMSE, both logarithmic; colour = path,
@@ -523,7 +523,7 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
         return 7;
     };
     {
-        std::ofstream data(dir + "/accuracy_plot.dat");
+        std::ostringstream data;
         data << "# ms_per_frame rmse rmse_1spp family point_type label label_lift (one block per scene: " << scenes.size()
              << ")\n";
         for (const BenchScene& s : scenes) {
@@ -541,11 +541,15 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
             }
             data << "\n\n";
         }
+        fx::io::write_output_file(dir + "/accuracy_plot.dat", data.str());
     }
     const int columns = scenes.size() <= 2 ? int(scenes.size()) : scenes.size() <= 4 ? 2 : 3;
     const int rows_n = int((scenes.size() + std::size_t(columns) - 1) / std::size_t(columns));
-    std::ofstream gp(dir + "/accuracy.gp");
+    std::ostringstream gp;
     gp << "# Written by cellfx bench accuracy; run with: gnuplot accuracy.gp (in this folder)\n"
+       << "# (cellfx itself sets the two output names to temporaries, renamed once gnuplot succeeds)\n"
+       << "if (!exists('accuracy_png')) accuracy_png = 'accuracy.png'\n"
+       << "if (!exists('accuracy_1spp_png')) accuracy_1spp_png = 'accuracy_1spp.png'\n"
        << "set terminal pngcairo size " << 560 * columns << "," << 470 * rows_n + 40 << " font 'DejaVu Sans,10'\n"
        << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\n"
        << "set grid xtics ytics lc rgb '#dddddd'\nset xlabel 'ms per frame (median)'\n"
@@ -564,7 +568,7 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
           "NaN w p pt 11 lc rgb 'gray40' t 'fx scale 1/2', NaN w p pt 15 lc rgb 'gray40' t 'fx scale 1/4'\"\n";
     for (int figure = 0; figure < 2; ++figure) {
         const int column = figure == 0 ? 2 : 3;
-        gp << "\nset output '" << (figure == 0 ? "accuracy.png" : "accuracy_1spp.png") << "'\n"
+        gp << "\nset output " << (figure == 0 ? "accuracy_png" : "accuracy_1spp_png") << "\n"
            << "set ylabel '" << (figure == 0 ? "RMSE against the 4x4 scan-line reference"
                                              : "RMSE against the 1-sample scan-line reference")
            << "'\n"
@@ -579,6 +583,32 @@ void write_plot(const std::string& dir, const std::vector<BenchScene>& scenes, c
         }
         gp << "unset multiplot\n";
     }
+    fx::io::write_output_file(dir + "/accuracy.gp", gp.str());
+}
+
+std::string shell_quoted(const std::string& text) {
+    std::string out = "'";
+    for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+// gnuplot draws the two figures into temporaries in `dir`, renamed over accuracy.png and
+// accuracy_1spp.png only when it succeeded: a failed plot leaves the last good figures.
+void draw_plot(const std::string& dir) {
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
+        throw fx::Error("bench accuracy: gnuplot not found, so " + dir +
+                        "/accuracy.png was not drawn (scripts/setup.sh installs gnuplot-nox)");
+    fx::io::OutputFile png(dir + "/accuracy.png"), png_1spp(dir + "/accuracy_1spp.png");
+    const auto name = [](const fx::io::OutputFile& f) {
+        const std::string& p = f.temporary_path();
+        return p.substr(p.find_last_of('/') + 1);
+    };
+    const std::string plot = "cd " + shell_quoted(dir) + " && gnuplot -e " +
+                             shell_quoted("accuracy_png = '" + name(png) + "'; accuracy_1spp_png = '" + name(png_1spp) + "'") +
+                             " accuracy.gp";
+    if (std::system(plot.c_str()) != 0) throw fx::Error("bench accuracy: '" + plot + "' failed");
+    png.commit();
+    png_1spp.commit();
 }
 
 // ---- rendering ----------------------------------------------------------------------------------
@@ -892,9 +922,8 @@ int bench_accuracy(const std::vector<std::string>& args) {
     Options o;
     o.quick = parsed.has("quick");
     o.images = parsed.has("images");
-    o.frames = parse_int(parsed.get("frames", o.quick ? "1" : "5"), "--frames");
-    o.fem_cells = parse_int(parsed.get("fem-cells", o.quick ? "20000" : "1000000"), "--fem-cells");
-    if (o.frames < 1 || o.fem_cells < 6) throw fx::Error("bench accuracy: --frames must be ≥ 1 and --fem-cells ≥ 6");
+    o.frames = int_option(parsed, "bench accuracy", "frames", o.quick ? 1 : 5);
+    o.fem_cells = int_option(parsed, "bench accuracy", "fem-cells", o.quick ? 20000 : 1000000);
     o.out = parsed.get("out", o.out);
     o.scenes = parsed.get("scenes", o.scenes);
     o.blunt_fin = parsed.get("blunt-fin", std::string(CELLFX_SOURCE_DIR) + "/content/meshes/blunt_fin");
@@ -907,7 +936,10 @@ int bench_accuracy(const std::vector<std::string>& args) {
             throw fx::Error("bench accuracy: --scenes: unknown scene '" + item +
                             "' (expected blunt-fin, fem, fog-above, fog-inside, campfire, searchlight, night-valley, "
                             "fog-valley-scales)");
-    std::filesystem::create_directories(o.out);
+    // The folder is made and tried now, not after the run: a read-only or mistyped --out is
+    // an error before the first frame.
+    fx::io::create_output_folder(o.out);
+    fx::io::check_output_file(o.out + "/accuracy.csv");
 
     const fx::HeadlessContext context;
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
@@ -950,11 +982,7 @@ int bench_accuracy(const std::vector<std::string>& args) {
                std::string("cellfx: ms per frame against error") + (o.quick ? " (quick mode)" : "") + " - " +
                    context.renderer());
     std::printf("\nwrote %s/accuracy.csv, accuracy.md, accuracy_plot.dat, accuracy.gp\n", o.out.c_str());
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
-        throw fx::Error("bench accuracy: gnuplot not found, so " + o.out +
-                        "/accuracy.png was not drawn (scripts/setup.sh installs gnuplot-nox)");
-    const std::string plot = "cd '" + o.out + "' && gnuplot accuracy.gp";
-    if (std::system(plot.c_str()) != 0) throw fx::Error("bench accuracy: '" + plot + "' failed");
+    draw_plot(o.out);
     std::printf("wrote %s/accuracy.png, accuracy_1spp.png\n", o.out.c_str());
     if (failed) throw fx::Error("bench accuracy: some frames failed verification");
     return 0;

@@ -79,7 +79,7 @@ const char* const kScenes[] = {"campfire", "searchlight", "laser", "fog_valley",
 fx::Camera camera_at(const terrain::Scene& scene, int frame, double dt) {
     if (scene.camera_path) return scene.camera_path->at(frame * dt, scene.camera);
     fx::Camera cam = scene.camera;
-    const glm::dvec3 f = cam.forward(), side = glm::normalize(glm::cross(f, cam.up));
+    const glm::dvec3 side = cam.right();
     const double step = 0.01 * glm::length(cam.target - cam.eye);
     cam.eye += side * (step * frame);
     cam.target += side * (step * frame);
@@ -206,8 +206,8 @@ int bench_effects(const std::vector<std::string>& args) {
     require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu",
                            "fx-scale", "medium", "json"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
-    const int frames = parse_int(parsed.get("frames", parsed.has("only-cpu") ? "60" : "8"), "--frames");
-    if (frames < 1) throw fx::Error("bench effects: --frames must be at least 1");
+    const int frames = int_option(parsed, "bench effects", "frames", parsed.has("only-cpu") ? 60 : 8);
+    const std::string json_file = output_file_option(parsed, "json", {}, false); // tried before the work
     std::vector<std::string> scenes = parsed.has("scenes") ? split_list(parsed.get("scenes")) : std::vector<std::string>();
     if (scenes.empty()) scenes.assign(std::begin(kScenes), std::end(kScenes));
     std::vector<fx::RenderPath> paths;
@@ -234,9 +234,9 @@ int bench_effects(const std::vector<std::string>& args) {
     const std::vector<std::string> cpu_paths = parsed.has("paths") ? split_list(parsed.get("paths")) : std::vector<std::string>();
     std::vector<BenchJsonRow> json;
     const auto write_json = [&] {
-        if (!parsed.has("json")) return;
-        write_scenes_json(parsed.get("json"), json);
-        std::printf("\n  wrote %s\n", parsed.get("json").c_str());
+        if (json_file.empty()) return;
+        write_scenes_json(json_file, json);
+        std::printf("\n  wrote %s\n", json_file.c_str());
     };
     if (parsed.has("only-cpu")) {
         std::printf("effects: cellfx's CPU per frame in a game\n  gl: %s\n", context.description().c_str());

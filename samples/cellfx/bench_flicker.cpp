@@ -122,9 +122,9 @@ int bench_flicker(const std::vector<std::string>& args) {
     terrain::Scene scene = terrain::load_scene(file);
     if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
     if (parsed.has("medium")) scene.medium = parse_medium_option(parsed.get("medium"));
-    const int frames = parse_int(parsed.get("frames", "60"), "--frames");
-    if (frames < 2) throw fx::Error("bench flicker: --frames must be at least 2");
-    const double start = parsed.has("time") ? parse_double(parsed.get("time"), "--time") : 0.0;
+    const int frames = int_option(parsed, "bench flicker", "frames", 60);
+    const std::string json_file = output_file_option(parsed, "json", {}, false); // tried before the work
+    const double start = number_option(parsed, "bench flicker", "time", 0.0);
     std::vector<double> scales;
     for (const std::string& item : split_list(parsed.get("fx-scale", "1,0.5,0.25"))) scales.push_back(parse_fx_scale(item));
     if (scales.empty()) throw fx::Error("bench flicker: --fx-scale lists no scale");
@@ -163,9 +163,9 @@ int bench_flicker(const std::vector<std::string>& args) {
     std::printf("\n  change: mean |Δ| of the displayed colour between consecutive frames (RGB, linear, 1 = white) over\n"
                 "  the pixels on a depth edge of either frame (edge) and over the rest (other), the mean and the\n"
                 "  median over the frame pairs; vs 1: against full resolution's (list 1 first for them).\n");
-    if (parsed.has("json")) {
-        write_scenes_json(parsed.get("json"), json);
-        std::printf("  wrote %s\n", parsed.get("json").c_str());
+    if (!json_file.empty()) {
+        write_scenes_json(json_file, json);
+        std::printf("  wrote %s\n", json_file.c_str());
     }
     return 0;
 }

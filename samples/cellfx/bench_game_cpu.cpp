@@ -46,6 +46,10 @@ using cellfx_samples::GlCallClock;
 
 namespace {
 
+// Warm-up frames of a flight: the first frames build whole, the next ones take the first
+// incremental updates (whose compute programs the GL driver compiles on their first use).
+constexpr int kFlightWarmup = 5;
+
 // The p-th percentile (nearest rank) of the samples; 0 for none.
 double percentile(std::vector<double> v, double p) {
     if (v.empty()) return 0.0;
@@ -58,7 +62,7 @@ double percentile(std::vector<double> v, double p) {
 fx::Camera flight_camera(const terrain::Scene& scene, int frame) {
     if (scene.camera_path) return scene.camera_path->at(1.0 + frame / 30.0, scene.camera);
     fx::Camera cam = scene.camera;
-    const glm::dvec3 side = glm::normalize(glm::cross(cam.forward(), cam.up)) * (0.01 * glm::length(cam.target - cam.eye));
+    const glm::dvec3 side = cam.right() * (0.01 * glm::length(cam.target - cam.eye));
     cam.eye += side * double(frame);
     cam.target += side * double(frame);
     return cam;
@@ -182,7 +186,7 @@ FlightRow fly(const std::string& name, const std::string& path_name, int frames,
         fx::Camera far_away = scene.camera_path ? scene.camera_path->at(11.0 + f / 30.0, scene.camera) : flight_camera(scene, f);
         if (!scene.camera_path) {
             const double jump = scene.has_terrain() ? 0.5 * scene.ground.extent() : 100.0;
-            const glm::dvec3 side = glm::normalize(glm::cross(far_away.forward(), far_away.up));
+            const glm::dvec3 side = far_away.right();
             far_away.eye -= side * jump, far_away.target -= side * jump;
         }
         event("teleport", far_away, frame);
@@ -242,15 +246,16 @@ BenchJsonRow row_json(const FlightRow& r) {
 void bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<std::string>& paths, int frames, int warmup,
                     const ParsedArgs& parsed, std::vector<BenchJsonRow>& json) {
     std::printf("\n  CPU per frame in a game: cellfx::Module update + render over a game's RGBA8 + DEPTH24 frame, the\n"
-                "  camera flying, thread CPU ms (waiting excluded), median / 95th percentile of %d steady frames\n",
-                frames);
+                "  camera flying, thread CPU ms (waiting excluded), median / 95th percentile of %d steady frames after\n"
+                "  %d warm-up frames\n",
+                frames, std::max(warmup, kFlightWarmup));
     std::printf("  %-17s %-12s %9s %15s %15s %13s %13s %7s %8s\n", "scene", "path", "size", "cellfx cpu", "driver cpu",
                 "update cpu", "uploads", "allocs", "prisms");
     std::vector<FlightRow> rows;
     const std::vector<std::string> own = {""};
     for (const std::string& name : scenes) {
         for (const std::string& path : paths.empty() ? own : paths) {
-            FlightRow r = fly(name, path, frames, warmup, parsed);
+            FlightRow r = fly(name, path, frames, std::max(warmup, kFlightWarmup), parsed);
             std::printf("  %-17s %-12s %9s %7.3f /%6.3f %7.3f /%6.3f %6.3f /%5.3f %6.3f /%5.3f %7llu %8zu\n", r.scene.c_str(),
                         r.path.c_str(), r.size.c_str(), r.cellfx.median, r.cellfx.p95, r.driver.median, r.driver.p95,
                         r.update.median, r.update.p95, r.uploads.median, r.uploads.p95,

@@ -124,11 +124,9 @@ int bench_noise(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {});
     require_known(parsed, {"rounds", "isa", "size"});
     if (!parsed.positional.empty()) throw fx::Error("bench noise: unexpected argument '" + parsed.positional[0] + "'");
-    const int rounds = parse_int(parsed.get("rounds", "9"), "--rounds");
-    if (rounds < 1 || rounds > 1000) throw fx::Error("bench noise: --rounds must be in 1..1000");
+    const int rounds = int_option(parsed, "bench noise", "rounds", 9);
     // --size N: the 3-D items sample N³ points, the 2-D ones (N·√N)² (default 64: 262144 each).
-    const int size = parse_int(parsed.get("size", "64"), "--size");
-    if (size < 4 || size > 256) throw fx::Error("bench noise: --size must be in 4..256");
+    const int size = int_option(parsed, "bench noise", "size", 64);
     const std::string isa_option = parsed.get("isa", "all");
     std::vector<NoiseIsa> isas;
     if (isa_option == "all" || isa_option == "avx2") {

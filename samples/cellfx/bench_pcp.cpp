@@ -24,6 +24,7 @@
 #include "commands.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/mesh_io.hpp"
 #include "scanline/synthetic_meshes.hpp"
@@ -145,14 +146,11 @@ std::string find_blunt_fin(const std::string& file) {
 int bench_pcp(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {});
     require_known(parsed, {"repeat", "grid", "sizes", "mesh", "q"});
-    const int repeat = parse_int(parsed.get("repeat", "5"), "--repeat");
-    const int grid = parse_int(parsed.get("grid", "100"), "--grid");
-    if (repeat < 1 || grid < 1) throw fx::Error("bench pcp: --repeat and --grid must be at least 1");
-    std::vector<int> sizes;
-    {
-        std::stringstream ss(parsed.get("sizes", "512,1024"));
-        for (std::string item; std::getline(ss, item, ',');) sizes.push_back(parse_int(item, "--sizes"));
-    }
+    const int repeat = int_option(parsed, "bench pcp", "repeat", 5);
+    const int grid = int_option(parsed, "bench pcp", "grid", 100);
+    fx::check_limit(fx::Limit::MeshCells, std::uint64_t(grid) * std::uint64_t(grid) * std::uint64_t(grid),
+                    "bench pcp --grid " + std::to_string(grid));
+    const std::vector<int> sizes = int_list_option(parsed, "bench pcp", "sizes", "512,1024");
     fx::HeadlessContext context;
     std::printf("cell projection (Roettger & Ertl 2003): pcp classic, pcp-exact, mip\n%s\n", context.description().c_str());
     const std::string xyz = parsed.has("mesh") ? parsed.get("mesh") : find_blunt_fin("bluntfinxyz.bin");

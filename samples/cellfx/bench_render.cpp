@@ -31,8 +31,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -56,6 +54,7 @@
 #include "fx/visibility_sort.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/render_target.hpp"
+#include "io/output_file.hpp"
 #include "mesh_input.hpp"
 #include "options.hpp"
 #include "cellfx_names.hpp"
@@ -391,6 +390,15 @@ int bench_render(const std::vector<std::string>& args) {
         return 0;
     }
     require_known(parsed, {"paths", "views", "size", "up", "sort", "scalar", "tf", "density", "threads", "json", "images"});
+    // Every option before the mesh is read; the outputs are tried now, not after the run.
+    const int views = int_option(parsed, "bench render", "views", 8);
+    int width = 512, height = 512;
+    if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
+    const unsigned threads = unsigned(int_option(parsed, "bench render", "threads", int(std::max(1u, std::thread::hardware_concurrency()))));
+    number_option(parsed, "bench render", "density", 1.0); // applied to the transfer function below
+    const std::string json = output_file_option(parsed, "json", {}, false);
+    const std::string images = parsed.get("images");
+    if (!images.empty()) fx::io::create_output_folder(images);
     const MeshInput input = read_mesh_input(parsed);
     const fx::CellMesh& mesh = input.mesh;
     const fx::ScalarField& field = input.scalar();
@@ -405,18 +413,8 @@ int bench_render(const std::vector<std::string>& args) {
         for (fx::TransferPoint& p : points) p.sigma *= k;
         fallback = fx::TransferFunction(std::move(points), fallback.normalized());
     }
-    const fx::TransferFunction tf = transfer_function_option(parsed, field, fallback);
+    const fx::TransferFunction tf = transfer_function_option(parsed, "bench render", field, fallback);
 
-    const int views = parse_int(parsed.get("views", "8"), "--views");
-    if (views < 1 || views > 360) throw fx::Error("--views must be in 1..360");
-    int width = 512, height = 512;
-    if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
-    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    if (parsed.has("threads")) {
-        const int t = parse_int(parsed.get("threads"), "--threads");
-        if (t < 1 || t > 256) throw fx::Error("--threads must be in 1..256");
-        threads = unsigned(t);
-    }
     std::vector<fx::RenderPath> paths;
     for (const std::string& name : split_list(parsed.get("paths", "pcp,pcp-exact,mip,absorption,absorption-exact"))) {
         fx::RenderPath p;
@@ -431,7 +429,6 @@ int bench_render(const std::vector<std::string>& args) {
         sorts.push_back(m);
     }
     if (sorts.empty()) throw fx::Error("--sort: no sort given");
-    const std::string images = parsed.get("images");
 
     const Orbit orbit(bounds, parsed.get("up", "z"), width, height);
     std::vector<fx::Camera> cameras;
@@ -503,7 +500,6 @@ int bench_render(const std::vector<std::string>& args) {
     }
 
     if (!images.empty()) {
-        std::filesystem::create_directories(images);
         for (const Run& r : runs) {
             fx::Image image = r.view0;
             fx::composite_over(image, glm::vec3(0.0f));
@@ -514,7 +510,7 @@ int bench_render(const std::vector<std::string>& args) {
 
     bool passed = true;
     for (const Run& r : runs) passed = passed && r.passed();
-    if (parsed.has("json")) {
+    if (!json.empty()) {
         nlohmann::json j;
         j["tool"] = "cellfx bench render";
         j["gl"] = context ? context->description() : "";
@@ -534,10 +530,8 @@ int bench_render(const std::vector<std::string>& args) {
                                   {"fov_y_degrees", c.fov_y_degrees}, {"near", c.near_distance}, {"far", c.far_distance}});
         for (const Run& r : runs) j["renderers"].push_back(run_json(r, cells));
         j["passed"] = passed;
-        std::ofstream out(parsed.get("json"));
-        out << j.dump(2) << "\n";
-        if (!out) throw fx::Error("--json: cannot write " + parsed.get("json"));
-        std::printf("  wrote %s\n", parsed.get("json").c_str());
+        fx::io::write_output_file(json, j.dump(2) + "\n");
+        std::printf("  wrote %s\n", json.c_str());
     }
     if (!passed) {
         std::fprintf(stderr, "cellfx bench render: frames outside their tolerance against the scan-line reference:");

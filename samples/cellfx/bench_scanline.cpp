@@ -34,22 +34,11 @@ int bench_scanline(const std::vector<std::string>& args) {
     if (!parsed.positional.empty()) throw fx::Error("bench scanline: unexpected argument '" + parsed.positional[0] + "'");
     int width = 512, height = 512;
     if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
-    const int repeat = parse_int(parsed.get("repeat", "3"), "--repeat");
-    const double scale = parse_double(parsed.get("scale", "1.0"), "--scale");
-    if (repeat < 1) throw fx::Error("bench scanline: --repeat must be at least 1");
+    const int repeat = int_option(parsed, "bench scanline", "repeat", 3);
+    const double scale = number_option(parsed, "bench scanline", "scale", 1.0);
     // --threads 1,2 (default): the thread counts to time; the speed-up is against the first.
     std::vector<unsigned> thread_counts;
-    {
-        const std::string list = parsed.get("threads", "1,2");
-        std::size_t pos = 0;
-        while (pos <= list.size()) {
-            const std::size_t comma = std::min(list.find(',', pos), list.size());
-            const int n = parse_int(list.substr(pos, comma - pos), "--threads");
-            if (n < 1 || n > 256) throw fx::Error("bench scanline: --threads entries must be in 1..256");
-            thread_counts.push_back(static_cast<unsigned>(n));
-            pos = comma + 1;
-        }
-    }
+    for (const int n : int_list_option(parsed, "bench scanline", "threads", "1,2")) thread_counts.push_back(unsigned(n));
 
     using clock = std::chrono::steady_clock;
     auto t0 = clock::now();

@@ -155,13 +155,10 @@ int bench_sort(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {});
     require_known(parsed, {"cells", "views", "repeat", "mesh"});
     if (!parsed.positional.empty()) throw fx::Error("bench sort: unexpected argument '" + parsed.positional[0] + "'");
-    const int cells = parse_int(parsed.get("cells", "1000000"), "--cells");
-    const int view_count = parse_int(parsed.get("views", "8"), "--views");
-    const int repeat = parse_int(parsed.get("repeat", "5"), "--repeat");
+    const int cells = int_option(parsed, "bench sort", "cells", 1000000);
+    const int view_count = int_option(parsed, "bench sort", "views", 8);
+    const int repeat = int_option(parsed, "bench sort", "repeat", 5);
     const std::string which = parsed.get("mesh", "all");
-    if (cells < 6) throw fx::Error("bench sort: --cells must be at least 6");
-    if (view_count < 2) throw fx::Error("bench sort: --views must be at least 2");
-    if (repeat < 1) throw fx::Error("bench sort: --repeat must be at least 1");
     if (which != "all" && which != "grid" && which != "jittered" && which != "c-shape")
         throw fx::Error("bench sort: --mesh must be all, grid, jittered or c-shape (got '" + which + "')");
 

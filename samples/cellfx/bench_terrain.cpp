@@ -252,24 +252,12 @@ int bench_terrain(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {"skip-lod", "skip-pixels", "skip-fps"});
     require_known(parsed, {"skip-lod", "skip-pixels", "skip-fps", "lod-frames", "frames", "views", "sizes"});
     if (!parsed.positional.empty()) throw fx::Error("bench terrain: unexpected argument '" + parsed.positional[0] + "'");
-    const int lod_frames = parse_int(parsed.get("lod-frames", "300"), "--lod-frames");
-    const int frames = parse_int(parsed.get("frames", "5"), "--frames");
-    const int views = parse_int(parsed.get("views", "3"), "--views");
-    if (lod_frames < 2 || frames < 1 || views < 1) throw fx::Error("bench terrain: --lod-frames ≥ 2, --frames and --views ≥ 1");
-    std::vector<int> sizes;
-    {
-        std::string list = parsed.get("sizes", "1025,2049");
-        std::size_t start = 0;
-        while (start <= list.size()) {
-            const std::size_t comma = list.find(',', start);
-            const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-            const int s = parse_int(item, "--sizes");
-            if (!terrain::is_lod_size(s)) throw fx::Error("bench terrain: --sizes: " + item + " is not 2^n + 1");
-            sizes.push_back(s);
-            if (comma == std::string::npos) break;
-            start = comma + 1;
-        }
-    }
+    const int lod_frames = int_option(parsed, "bench terrain", "lod-frames", 300);
+    const int frames = int_option(parsed, "bench terrain", "frames", 5);
+    const int views = int_option(parsed, "bench terrain", "views", 3);
+    const std::vector<int> sizes = int_list_option(parsed, "bench terrain", "sizes", "1025,2049");
+    for (const int s : sizes)
+        if (!terrain::is_lod_size(s)) throw fx::Error("bench terrain --sizes: " + std::to_string(s) + " is not 2^n + 1");
     const std::vector<double> bounds = {1.0, 2.0, 4.0, 8.0};
 
     const fx::HeadlessContext context;

@@ -37,15 +37,13 @@ int run_convert(const std::vector<std::string>& args) {
         return args.empty() ? 2 : 0;
     }
     require_known(parsed, {"out", "scalar", "ascii", "synthetic", "cells"});
-    const std::string out = parsed.get("out");
-    if (out.size() < 5 || out.compare(out.size() - 4, 4, ".vtk") != 0) throw fx::Error("--out FILE.vtk is required");
+    const std::string out = output_file_option(parsed, "out", {".vtk"}, true);
     fx::CellMesh mesh;
     std::string source;
     if (parsed.has("synthetic")) {
         if (!parsed.positional.empty()) throw fx::Error("--synthetic takes no input file");
         const std::string name = parsed.get("synthetic");
-        const int cells = parse_int(parsed.get("cells", "1000000"), "--cells");
-        if (cells < 1) throw fx::Error("--cells must be at least 1");
+        const int cells = int_option(parsed, "convert", "cells", 1000000);
         if (name != "duct" && name != "duct-hex") throw fx::Error("--synthetic: unknown mesh '" + name + "' (expected duct or duct-hex)");
         mesh = fx::make_curved_duct(std::size_t(cells), name == "duct");
         source = "synthetic " + name;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "fx/resource_limits.hpp"
 #include "cellfx_names.hpp"
 
@@ -19,7 +20,7 @@ void usage() {
         "  render FILE [options]   render a mesh to PNG or PFM (see 'cellfx render --help')\n"
         "  convert FILE --out F.vtk  write a mesh as VTK legacy, for other tools (see 'cellfx convert --help')\n"
         "  bench NAME [options]    benchmarks (see 'cellfx bench --help')\n"
-        "  limits                  the resource limits in force\n"
+        "  limits                  the resource limits in force and every numeric option's range\n"
         "any command takes --limit NAME=N (repeatable) to change a resource limit, e.g.\n"
         "  cellfx render big.vtk --limit mesh-cells=100000000 --out big.png");
 }
@@ -52,6 +53,8 @@ int main(int argc, char** argv) {
         if (command == "convert") return cellfx_cli::run_convert(args);
         if (command == "limits") {
             std::printf("resource limits (change with --limit NAME=N):\n%s", fx::describe_limits(limits).c_str());
+            std::printf("\noption ranges (checked before a command reads or allocates anything):\n%s",
+                        cellfx_cli::describe_numeric_options().c_str());
             return 0;
         }
         std::fprintf(stderr, "cellfx: unknown command '%s' (expected info, render, convert, bench or limits)\n",

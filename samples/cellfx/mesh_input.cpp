@@ -25,7 +25,8 @@ MeshInput read_mesh_input(const ParsedArgs& parsed) {
         for (const fx::ScalarField& f : in.mesh.scalars) names += (names.empty() ? "" : ", ") + f.name;
         throw fx::Error("--scalar: no field '" + in.field + "' (the mesh has: " + names + ")");
     }
-    fx::check_scalar_field(in.mesh, *in.mesh.find_scalar(in.field), in.files[0]);
+    // PLOT3D fields come from the q file: a bad value there is the q file's.
+    fx::check_scalar_field(in.mesh, *in.mesh.find_scalar(in.field), in.files.back());
     return in;
 }
 
@@ -36,16 +37,15 @@ fx::TransferFunction default_transfer_function() {
                                 /*normalized=*/true);
 }
 
-fx::TransferFunction transfer_function_option(const ParsedArgs& parsed, const fx::ScalarField& field,
+fx::TransferFunction transfer_function_option(const ParsedArgs& parsed, const char* command, const fx::ScalarField& field,
                                               const fx::TransferFunction& fallback) {
+    const double k = number_option(parsed, command, "density", 1.0);
     fx::TransferFunction tf = parsed.has("tf") ? fx::TransferFunction::read_json(parsed.get("tf")) : fallback;
     if (tf.normalized()) {
         const fx::ScalarRange r = fx::scalar_range(field);
         tf = tf.rescaled(r.lo, r.hi);
     }
     if (parsed.has("density")) {
-        const double k = parse_double(parsed.get("density"), "--density");
-        if (k < 0.0) throw fx::Error("--density must not be negative");
         try {
             tf = tf.scaled_extinction(k);
         } catch (const fx::Error& e) {

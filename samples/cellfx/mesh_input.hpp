@@ -31,8 +31,9 @@ MeshInput read_mesh_input(const ParsedArgs& parsed);
 fx::TransferFunction default_transfer_function();
 
 // --tf FILE (or `fallback`), mapped onto the field's range when normalized, its extinction
-// multiplied by --density K (K ≥ 0). The result is in field units (normalized() is false).
-fx::TransferFunction transfer_function_option(const ParsedArgs& parsed, const fx::ScalarField& field,
+// multiplied by --density K (`command`'s documented range). The result is in field units
+// (normalized() is false).
+fx::TransferFunction transfer_function_option(const ParsedArgs& parsed, const char* command, const fx::ScalarField& field,
                                               const fx::TransferFunction& fallback);
 
 } // namespace cellfx_cli

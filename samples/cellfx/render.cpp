@@ -93,22 +93,27 @@ constexpr const char* kUsage =
 int render_scene_file(const ParsedArgs& parsed) {
     require_known(parsed, {"path", "camera", "size", "pixel-error", "out", "time", "disable", "only", "no-terrain", "threads",
                            "fx-scale", "medium"});
-    if (parsed.positional.size() != 1) throw fx::Error("expected one SCENE.json");
-    const std::string out = parsed.get("out");
-    if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
-    // The scene first: a bad file is an error before any GL work.
+    if (parsed.positional.size() != 1)
+        throw fx::Error(parsed.positional[0] + ": a scene file is rendered alone, but " +
+                        std::to_string(parsed.positional.size() - 1) + " more file" +
+                        (parsed.positional.size() > 2 ? "s follow it" : " follows it") + " ('" + parsed.positional[1] +
+                        "'): a second file (Q_FILE) goes with a PLOT3D grid only");
+    const std::string out = output_file_option(parsed, "out", {".png", ".pfm"}, true);
+    // The options, then the scene: a bad value or file is an error before any GL work.
+    const double time = number_option(parsed, "render", "time", 0.0);
+    const double pixel_error = number_option(parsed, "render", "pixel-error", 0.0);
+    const int threads = int_option(parsed, "render", "threads", 0);
+    int width = 0, height = 0;
+    if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
+    if (parsed.has("camera")) fx::Camera::parse(parsed.get("camera"), "--camera");
     const auto t0 = std::chrono::steady_clock::now();
     terrain::Scene scene = terrain::load_scene(parsed.positional[0]);
     const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    const double time = parsed.has("time") ? parse_double(parsed.get("time"), "--time") : 0.0;
     fx::Camera camera = scene.camera_path ? scene.camera_path->at(time, scene.camera) : scene.camera;
-    if (parsed.has("camera")) camera = fx::Camera::parse(parsed.get("camera"));
+    if (parsed.has("camera")) camera = fx::Camera::parse(parsed.get("camera"), "--camera");
     camera.validate(parsed.has("camera") ? "--camera" : parsed.positional[0] + ": the camera at t = " + format_number(time));
-    if (parsed.has("size")) parse_size(parsed.get("size"), scene.width, scene.height);
-    if (parsed.has("pixel-error")) {
-        scene.pixel_error = parse_double(parsed.get("pixel-error"), "--pixel-error");
-        if (!(scene.pixel_error > 0.0)) throw fx::Error("--pixel-error must be positive");
-    }
+    if (parsed.has("size")) scene.width = width, scene.height = height;
+    if (parsed.has("pixel-error")) scene.pixel_error = pixel_error;
     if (parsed.has("no-terrain")) scene.draw_terrain = false;
     if (parsed.has("fx-scale")) scene.fx_scale = parse_fx_scale(parsed.get("fx-scale"));
     if (parsed.has("medium")) scene.medium = parse_medium_option(parsed.get("medium"));
@@ -133,8 +138,7 @@ int render_scene_file(const ParsedArgs& parsed) {
     if (reference) { // the scene's volumes, exactly, as intersecting grids (terrain not drawn)
         renderer.update(0.0, camera, scene.width, scene.height);
         const auto t1 = std::chrono::steady_clock::now();
-        fx::Image image = terrain::render_scene_reference(renderer, camera, scene.width, scene.height,
-                                                          parsed.has("threads") ? unsigned(parse_int(parsed.get("threads"), "--threads")) : 0u);
+        fx::Image image = terrain::render_scene_reference(renderer, camera, scene.width, scene.height, unsigned(threads));
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
         fx::composite_over(image, glm::vec3(scene.background));
         fx::write_image(image, out);
@@ -289,12 +293,19 @@ int run_render(const std::vector<std::string>& args) {
         std::puts(kUsage);
         return 0;
     }
-    if (parsed.positional.size() == 1 && has_extension(parsed.positional[0], ".json")) return render_scene_file(parsed);
+    if (!parsed.positional.empty() && has_extension(parsed.positional[0], ".json")) return render_scene_file(parsed);
     require_known(parsed, {"path", "model", "scalar", "tf", "density", "camera", "near", "size", "background",
                            "threads", "fog", "sort", "out"});
     if (parsed.positional.empty() || parsed.positional.size() > 2) throw fx::Error("expected FILE [Q_FILE]\n" + std::string(kUsage));
-    const std::string out = parsed.get("out");
-    if (out.empty()) throw fx::Error("--out FILE.png|FILE.pfm is required");
+    const std::string out = output_file_option(parsed, "out", {".png", ".pfm"}, true);
+    // Every option's value before the mesh is read: a typo costs nothing.
+    const int threads = int_option(parsed, "render", "threads", 0);
+    const double near = number_option(parsed, "render", "near", 0.0);
+    int width = 512, height = 512;
+    if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
+    const glm::dvec3 background = parsed.has("background") ? parse_colour(parsed.get("background"), "--background") : glm::dvec3(0.0);
+    number_option(parsed, "render", "density", 1.0); // applied with --tf once the field is known
+    if (parsed.has("camera")) fx::Camera::parse(parsed.get("camera"), "--camera"); // near fitted to the mesh below
     const std::string path_name = parsed.get("path", "scanline");
     const auto path = render_paths().find(path_name);
     if (path == render_paths().end()) {
@@ -306,8 +317,8 @@ int run_render(const std::vector<std::string>& args) {
     const MeshInput input = read_mesh_input(parsed);
     const fx::CellMesh& mesh = input.mesh;
     const fx::ScalarField* field = &input.scalar();
-    RenderJob job{&mesh, field, transfer_function_option(parsed, *field, default_transfer_function()), {}, 512, 512,
-                  fx::OpticalModel::EmissionAbsorption, 0, parsed.has("fog"), fx::SortMethod::Xmpvo};
+    RenderJob job{&mesh, field, transfer_function_option(parsed, "render", *field, default_transfer_function()), {}, width, height,
+                  fx::OpticalModel::EmissionAbsorption, unsigned(threads), parsed.has("fog"), fx::SortMethod::Xmpvo};
     if (parsed.has("sort")) {
         if (path_name != "absorption" && path_name != "absorption-exact")
             throw fx::Error("--sort is an option of the absorption paths");
@@ -319,21 +330,11 @@ int run_render(const std::vector<std::string>& args) {
     }
     if (job.fog && path_name != "pcp-exact") throw fx::Error("--fog is an option of --path pcp-exact");
     const fx::Bounds bounds = fx::mesh_bounds(mesh);
-    job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera")) : fx::Camera::framing(bounds.lo, bounds.hi);
+    job.camera = parsed.has("camera") ? fx::Camera::parse(parsed.get("camera"), "--camera") : fx::Camera::framing(bounds.lo, bounds.hi);
     if (parsed.has("camera")) fit_near(parsed.get("camera"), bounds, job.camera);
-    if (parsed.has("near")) {
-        job.camera.near_distance = parse_double(parsed.get("near"), "--near");
-        if (!(job.camera.near_distance > 0.0)) throw fx::Error("--near must be positive");
-    }
+    if (parsed.has("near")) job.camera.near_distance = near;
     job.camera.validate(parsed.has("near") ? "--near " + parsed.get("near") : parsed.has("camera") ? "--camera" : "camera");
-    if (parsed.has("size")) parse_size(parsed.get("size"), job.width, job.height);
     if (parsed.has("model")) job.model = parse_model(parsed.get("model"));
-    if (parsed.has("threads")) {
-        const int threads = parse_int(parsed.get("threads"), "--threads");
-        if (threads < 1 || threads > 256) throw fx::Error("--threads must be in 1..256");
-        job.threads = static_cast<unsigned>(threads);
-    }
-    const glm::dvec3 background = parsed.has("background") ? parse_colour(parsed.get("background"), "--background") : glm::dvec3(0.0);
 
     Frame frame;
     try {

@@ -35,7 +35,8 @@ std::string fixed(double v, int digits) {
 } // namespace
 
 FlightCamera::FlightCamera(const fx::Camera& start) : camera_(start) {
-    up_ = glm::normalize(start.up);
+    // The world's up, of any length (scaled first: an up of 1e-300 is an up, as everywhere).
+    up_ = glm::normalize(start.up / std::max({std::abs(start.up.x), std::abs(start.up.y), std::abs(start.up.z)}));
     const glm::dvec3 f = start.forward();
     // A horizontal basis: the view's heading if it has one, else any direction across up.
     glm::dvec3 heading = f - glm::dot(f, up_) * up_;

@@ -14,6 +14,7 @@
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/image.hpp"
+#include "io/output_file.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_samples {
@@ -26,11 +27,16 @@ std::string frame_file(const std::string& dir, int frame) {
     return (std::filesystem::path(dir) / name).string();
 }
 
+// The folder for the frames, made and tried before the first frame (fx::write_png writes each
+// through io::OutputFile).
 void prepare_out(const std::string& dir) {
     if (dir.empty()) return;
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) throw fx::Error("--out: cannot create the folder '" + dir + "': " + ec.message());
+    try {
+        fx::io::create_output_folder(dir);
+        fx::io::check_output_file(frame_file(dir, 0));
+    } catch (const fx::Error& e) {
+        throw fx::Error(std::string("--out ") + e.what());
+    }
 }
 
 void apply_start_options(SampleContent& content, const SampleOptions& options) {

@@ -15,6 +15,14 @@
 
 namespace cellfx::fx {
 
+// The nearest any render path cuts cells, as a fraction of the mesh's size (the diagonal of
+// its bounding box): a near plane closer than that is moved out to it (Camera::clipping_near).
+// What that leaves out is at most this fraction of a ray through the mesh, far below what a
+// float image resolves; what it prevents is a near plane so close that screen depths overflow
+// (the scan-line renderer drew nothing with near = 1e-38 inside a mesh of size 1).
+// near_distance itself may be any positive number.
+constexpr double kMinNearFraction = 1e-9;
+
 struct Ray {
     glm::dvec3 origin;
     glm::dvec3 direction; // unit length
@@ -31,7 +39,7 @@ struct Camera {
     glm::dvec3 up{0.0, 1.0, 0.0};
     double fov_y_degrees = 45.0; // vertical field of view of a perspective camera
     double ortho_height = 0.0;   // > 0: orthographic, this many world units tall
-    double near_distance = 0.01;
+    double near_distance = 0.01; // any positive value; renderers cut at clipping_near()
     // Bounds the host's depth buffer (a scene depth is read with it). No path cuts cells at the
     // far plane: the scan-line renderer ignores it, and the GPU paths rasterise with it at
     // infinity (perspective) or moved past the mesh (orthographic).
@@ -43,9 +51,24 @@ struct Camera {
     // from_matrices() sets it. The GPU paths follow it; the scan-line renderer rejects it.
     std::optional<glm::dmat4> projection;
 
+    // The image's orthonormal frame in world space, built in double: forward the unit view
+    // direction, right = forward × up and up' = right × forward, each normalised from vectors
+    // scaled by their largest component first, so that an `up` of any length (1e-300, 1e300)
+    // or nearly along the view gives the frame of its direction. Every render path takes its
+    // frame from here (or from view_matrix(), built from it) and converts to float only after.
+    // Meaningful for a camera that passes validate().
+    struct Basis {
+        glm::dvec3 right, up, forward;
+    };
+    Basis basis() const;
+
     bool orthographic() const { return ortho_height > 0.0; }
+    // The near plane a renderer of a mesh `mesh_size` across (its bounding box's diagonal)
+    // cuts at: near_distance, or kMinNearFraction·mesh_size when that is farther. Every path,
+    // CPU and GPU, cuts there, so a near of 1e-300 gives every path the same picture.
+    double clipping_near(double mesh_size) const;
     glm::dvec3 forward() const; // unit view direction
-    // The unit right vector of the image: forward() × up, with up of any length.
+    // The unit right vector of the image: basis().right.
     glm::dvec3 right() const;
 
     // Throws fx::Error, starting with `who` ("camera", "scene.json: camera"), unless the camera
@@ -65,9 +88,9 @@ struct Camera {
     Ray pixel_ray(double x, double y, int width, int height) const;
 
     // Parses "eye=x,y,z,target=x,y,z,up=x,y,z,fov=DEG" or with "ortho=HEIGHT" instead of fov;
-    // near=D and far=D are accepted too. Any key may be left out. Throws fx::Error naming
-    // the bad key or number, or what validate() finds.
-    static Camera parse(std::string_view spec);
+    // near=D and far=D are accepted too. Any key may be left out. Throws fx::Error, starting
+    // with `who` ("--camera"), naming the bad key or number, or what validate() finds.
+    static Camera parse(std::string_view spec, std::string_view who = "camera");
     // The camera of a host's GL matrices: `view` world → eye (a rigid motion), `projection`
     // eye → clip, a perspective frustum or an orthographic box (glFrustum / glOrtho form,
     // off-axis allowed, GL's [−1, 1] depth). Throws fx::Error naming the matrix and what is

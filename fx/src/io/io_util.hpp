@@ -10,7 +10,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,14 +31,6 @@ inline std::vector<char> read_file_bytes(const std::string& path) {
             throw Error(path + ": byte 0: not a PLOT3D grid file (nor VTK legacy or AVS UCD): it starts with four zero "
                                "bytes, where every PLOT3D variant has a count or record length of at least 1");
     });
-}
-
-// Writes bytes to a file, replacing it. Throws fx::Error naming the file on failure.
-inline void write_file_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(path + ": cannot create file");
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw Error(path + ": write error");
 }
 
 inline bool host_is_big_endian() {

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "io/io_util.hpp"
+#include "io/output_file.hpp"
 
 namespace cellfx::fx {
 namespace {
@@ -52,7 +54,11 @@ bool record_fits(const Bytes& b, std::size_t offset, std::uint64_t length, bool 
 
 // Parses the header under (endianness, markers, multi-block). `min_bytes_per_node` bounds the
 // node counts by the file size, so that no later step allocates more than the file can hold.
-bool parse_header(const Bytes& b, bool big_endian, bool markers, bool multi, std::size_t min_bytes_per_node, Header& h) {
+// With `lying_close`, a dims record whose opening marker is right but whose closing one is
+// not is read all the same, and the closing marker's offset stored there (else it is 0).
+bool parse_header(const Bytes& b, bool big_endian, bool markers, bool multi, std::size_t min_bytes_per_node, Header& h,
+                  std::size_t* lying_close = nullptr) {
+    if (lying_close) *lying_close = 0;
     std::size_t offset = 0;
     std::uint64_t blocks = 1;
     if (multi) {
@@ -67,7 +73,12 @@ bool parse_header(const Bytes& b, bool big_endian, bool markers, bool multi, std
         offset += markers ? 8 : 4;
     }
     if (markers) {
-        if (!record_fits(b, offset, 12 * blocks, big_endian)) return false;
+        if (!record_fits(b, offset, 12 * blocks, big_endian)) {
+            const std::size_t close = offset + 4 + 12 * blocks;
+            if (!lying_close || !b.has(offset, 4) || b.int32(offset, big_endian) != std::int32_t(12 * blocks) || !b.has(close, 4))
+                return false;
+            *lying_close = close;
+        }
         offset += 4;
     }
     if (!b.has(offset, 12 * blocks)) return false;
@@ -100,25 +111,30 @@ struct Layout {
     std::vector<std::size_t> field_offsets; // q only: density array
     std::uint64_t expected_size = 0;
     bool markers_ok = true;                 // every marker inside the file matched
-    std::string bad_marker;                 // the first that did not: where, what it says, what fits
+    std::size_t bad_markers = 0, markers = 0; // of the markers inside the file: disagreeing, all
+    std::uint64_t bad_offset = 0;           // the first that disagreed: where, and what it says
+    std::string bad_marker;
 };
 
 // Checks the record marker at `offset` (inside the file) against the record's length.
 void check_marker(const Bytes& b, Layout& l, std::uint64_t offset, std::uint64_t length, const char* which) {
     if (!b.has(offset, 4)) return;
+    ++l.markers;
     const std::int32_t found = b.int32(offset, l.format.big_endian);
     if (length <= std::uint64_t(std::numeric_limits<std::int32_t>::max()) && found == std::int32_t(length)) return;
     if (l.markers_ok) {
+        l.bad_offset = offset;
         l.bad_marker = "the record marker at byte " + std::to_string(offset) + " (" + which + ") says " +
                        std::to_string(found) + " bytes, but the record holds " + std::to_string(length);
     }
     l.markers_ok = false;
+    ++l.bad_markers;
 }
 
 std::size_t real_size(bool double_precision) { return double_precision ? 8 : 4; }
 
 Layout grid_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
-    Layout l{f, h, {}, {}, 0, true, {}};
+    Layout l{f, h, {}, {}, 0, true, 0, 0, 0, {}};
     std::uint64_t offset = h.data_offset;
     for (const Dims& d : h.dims) {
         const std::uint64_t length = node_count(d) * (3 * real_size(f.double_precision) + (f.iblank ? 4 : 0));
@@ -135,7 +151,7 @@ Layout grid_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
 }
 
 Layout q_layout(const Bytes& b, const Plot3dFormat& f, const Header& h) {
-    Layout l{f, h, {}, {}, 0, true, {}};
+    Layout l{f, h, {}, {}, 0, true, 0, 0, 0, {}};
     std::uint64_t offset = h.data_offset;
     const std::size_t s = real_size(f.double_precision);
     auto record = [&](std::uint64_t length) {
@@ -226,17 +242,34 @@ Layout detect_grid(const Bytes& b, std::vector<std::string>& ambiguity) {
     const Layout* closest = nullptr;
     std::vector<Layout> near; // candidates that do not fit, kept for the error message
     std::string bad_marker;   // the first data record marker that ruled a reading out
+    // A reading whose header and size account for the whole file but one of whose data markers
+    // disagrees (the fewest such): the file is that variant with a damaged or lying marker.
+    std::optional<Layout> lying;
     for (bool big_endian : {true, false}) {
         for (bool markers : {true, false}) {
             for (bool multi : {false, true}) {
                 Header h;
-                if (!parse_header(b, big_endian, markers, multi, 12, h)) continue;
+                std::size_t lying_close = 0;
+                if (!parse_header(b, big_endian, markers, multi, 12, h, &lying_close)) continue;
                 for (bool double_precision : {false, true}) {
                     for (bool iblank : {false, true}) {
                         const Plot3dFormat f{big_endian, markers, double_precision, iblank, multi};
                         Layout l = grid_layout(b, f, h);
+                        if (lying_close) { // the header's closing marker disagrees: a reading only for the message
+                            if (!l.markers_ok || l.expected_size != b.data.size() || lying) continue;
+                            lying = l;
+                            lying->bad_offset = lying_close;
+                            lying->bad_marker = "the record marker at byte " + std::to_string(lying_close) +
+                                                " (closing the header's dims) says " +
+                                                std::to_string(b.int32(lying_close, big_endian)) +
+                                                " bytes, but the record holds " + std::to_string(12 * h.dims.size());
+                            ++lying->markers, ++lying->bad_markers;
+                            continue;
+                        }
                         if (!l.markers_ok) {
                             if (bad_marker.empty()) bad_marker = "read as " + describe(f) + ", " + l.bad_marker;
+                            if (l.expected_size == b.data.size() && (!lying || l.bad_markers < lying->bad_markers))
+                                lying = l;
                             continue;
                         }
                         if (l.expected_size == b.data.size()) {
@@ -256,6 +289,18 @@ Layout detect_grid(const Bytes& b, std::vector<std::string>& ambiguity) {
         return exact[0];
     }
     const std::uint64_t size = b.data.size();
+    if (lying) {
+        std::string dims;
+        for (std::size_t k = 0; k < lying->header.dims.size() && k < 4; ++k) dims += (k ? ", " : "") + dims_text(lying->header.dims[k]);
+        if (lying->header.dims.size() > 4) dims += ", ...";
+        const std::string others = lying->bad_markers == 1
+                                       ? "every other record marker agrees"
+                                       : std::to_string(lying->bad_markers - 1) + " other record marker" +
+                                             (lying->bad_markers > 2 ? "s disagree" : " disagrees") + " too";
+        b.fail(lying->bad_offset, "a damaged or lying record marker: " + lying->bad_marker + "; read as " +
+                                      describe(lying->format) + ", the header (" + dims + " nodes) accounts for all " +
+                                      io::with_commas(size) + " bytes of the file, and " + others);
+    }
     for (const Layout& l : near) {
         const std::uint64_t distance = l.expected_size > size ? l.expected_size - size : size - l.expected_size;
         const std::uint64_t best = closest ? (closest->expected_size > size ? closest->expected_size - size : size - closest->expected_size) : 0;
@@ -537,7 +582,7 @@ void write_plot3d(const std::vector<Plot3dBlock>& blocks, const Plot3dFormat& fo
         }
         append_record(xyz, payload, format);
     }
-    io::write_file_bytes(xyz_path, xyz);
+    io::write_output_file(xyz_path, xyz);
     if (q_path.empty()) return;
     std::string q = header_bytes(blocks, format);
     for (const Plot3dBlock& b : blocks) {
@@ -550,7 +595,7 @@ void write_plot3d(const std::vector<Plot3dBlock>& blocks, const Plot3dFormat& fo
         }
         append_record(q, payload, format);
     }
-    io::write_file_bytes(q_path, q);
+    io::write_output_file(q_path, q);
 }
 
 } // namespace cellfx::fx

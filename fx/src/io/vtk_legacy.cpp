@@ -14,6 +14,7 @@
 #include <set>
 
 #include "io/io_util.hpp"
+#include "io/output_file.hpp"
 
 namespace cellfx::fx {
 namespace {
@@ -828,7 +829,7 @@ void write_vtk_legacy(const CellMesh& mesh, const std::string& path, bool binary
             if (binary) out += "\n";
         }
     }
-    io::write_file_bytes(path, out);
+    io::write_output_file(path, out);
 }
 
 } // namespace cellfx::fx

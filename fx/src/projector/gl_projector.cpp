@@ -314,7 +314,10 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
         if (!changes.oriented) orient_cell(mesh_, c);
         // Its CPU triangles when a CPU pass asks (flush_triangles): listed once however often it
         // changes meanwhile.
-        if (triangles_stale_.size() < nc) triangles_stale_.resize(std::max<std::size_t>(nc, triangles_stale_.size() * 3 / 2), 0);
+        if (triangles_stale_.size() < nc) {
+            triangles_stale_.resize(std::max<std::size_t>(nc, triangles_stale_.size() * 3 / 2), 0);
+            untriangulated_.reserve(triangles_stale_.size()); // a cell is listed once at most
+        }
         if (!triangles_stale_[c]) {
             triangles_stale_[c] = 1;
             untriangulated_.push_back(c);
@@ -634,9 +637,9 @@ void GlProjector::upload_tables(const TransferFunction& tf) {
     FX_GL_CHECK("upload tables");
 }
 
-glm::dmat4 GlProjector::raster_projection(const Camera& camera, double aspect, double ortho_far) {
+glm::dmat4 GlProjector::raster_projection(const Camera& camera, double near, double aspect, double ortho_far) {
     glm::dmat4 projection = camera.projection_matrix(aspect);
-    const double n = camera.near_distance;
+    const double n = near; // the view's clipping near (ProjectorView::near_distance)
     if (!camera.orthographic()) {
         // The frustum's depth row with far at infinity (x, y and w unchanged, near still
         // clips): the passes read depth from 1/w, never from z. With a finite far, n/f below
@@ -696,8 +699,8 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
     // No cell is cut at the far plane, as the scan-line reference cuts none: an orthographic
     // view rasterises with far moved past the mesh's deepest corner where that lies beyond it.
     const double ortho_far =
-        v.orthographic ? std::max(camera.far_distance, camera.near_distance + 1.01 * std::max(bounds_depth_range(v).y, 0.0)) : 0.0;
-    const glm::mat4 vp(raster_projection(camera, double(viewport.width) / double(viewport.height), ortho_far) * v.view);
+        v.orthographic ? std::max(camera.far_distance, v.near_distance + 1.01 * std::max(bounds_depth_range(v).y, 0.0)) : 0.0;
+    const glm::mat4 vp(raster_projection(camera, v.near_distance, double(viewport.width) / double(viewport.height), ortho_far) * v.view);
     const glm::vec3 eye(v.eye), forward(v.forward);
     const double span = s_hi_ - s_lo_;
     const glm::vec4 table(float(s_lo_), float(s_hi_), float(kTableSize), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f);
@@ -707,7 +710,7 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
     glProgramUniform3fv(p, kUniformForward, 1, glm::value_ptr(forward));
     glProgramUniform1f(p, kUniformNear, float(v.near_distance));
     glProgramUniform1i(p, kUniformOrthographic, v.orthographic ? 1 : 0);
-    if (v.orthographic) glProgramUniform2f(p, kUniformRasterDepthRange, float(camera.near_distance), float(ortho_far));
+    if (v.orthographic) glProgramUniform2f(p, kUniformRasterDepthRange, float(v.near_distance), float(ortho_far));
     glProgramUniform4fv(p, kUniformTable, 1, glm::value_ptr(table));
 
     // The ray of pixel centre (x, y) of the pass's target (the viewport's size, at the origin)
@@ -730,7 +733,8 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
             direction = p00 - v.eye, direction_dx = p10 - p00, direction_dy = p01 - p00;
         }
     } else {
-        const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up)), u = glm::cross(r, f);
+        const Camera::Basis basis = camera.basis(); // double, normalised: an up of 1e-300 is an up
+        const glm::dvec3 &r = basis.right, &u = basis.up;
         const double aspect = w / h;
         const double half_x = camera.orthographic() ? 0.5 * camera.ortho_height * aspect
                                                     : std::tan(0.5 * glm::radians(camera.fov_y_degrees)) * aspect;

@@ -215,8 +215,8 @@ private:
     glm::dvec2 bounds_depth_range(const ProjectorView& view) const;
     // The projection the passes rasterise with (set_view_uniforms): the camera's, except that
     // no cell is cut at its far plane: a perspective view's far at infinity, an orthographic
-    // one's at `ortho_far`.
-    static glm::dmat4 raster_projection(const Camera& camera, double aspect, double ortho_far);
+    // one's at `ortho_far`; the near plane at `near` (ProjectorView::near_distance).
+    static glm::dmat4 raster_projection(const Camera& camera, double near, double aspect, double ortho_far);
 
     std::shared_ptr<gl::ProgramCache> programs_;
     CellMesh mesh_;

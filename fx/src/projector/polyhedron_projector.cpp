@@ -72,6 +72,7 @@ void build_projector_geometry(const CellMesh& mesh, const ScalarField* scalars, 
                         text(kMinProjectorExtent) + ", the smallest the GPU paths keep float precision for (scale the mesh)");
     }
     g.origin = bounds.empty() ? glm::dvec3(0.0) : bounds.center();
+    g.extent = bounds.empty() ? 0.0 : glm::length(bounds.size());
     resize_kept(g.positions, np);
     assign_kept(g.scalars, np, 0.0f);
     for (std::size_t i = 0; i < np; ++i) {
@@ -128,7 +129,7 @@ ProjectorView make_projector_view(const ProjectorGeometry& geometry, const Camer
     v.view = camera.view_matrix() * glm::translate(glm::dmat4(1.0), geometry.origin);
     v.eye = camera.eye - geometry.origin;
     v.forward = camera.forward();
-    v.near_distance = camera.near_distance;
+    v.near_distance = camera.clipping_near(geometry.extent);
     v.far_distance = camera.far_distance;
     v.orthographic = camera.orthographic();
     return v;

@@ -42,6 +42,7 @@ namespace cellfx::fx {
 
 struct ProjectorGeometry {
     glm::dvec3 origin{0.0};                  // positions are relative to this point
+    double extent = 0.0;                     // the diagonal of the points' bounds (0: no points)
     std::vector<glm::vec3> positions;        // per mesh point, relative to origin
     std::vector<float> scalars;              // per mesh point (zeros if no field was given)
     std::vector<std::uint32_t> cell_first_triangle;      // cell_count + 1 entries
@@ -84,7 +85,7 @@ struct ProjectorView {
     glm::dmat4 view{1.0};    // relative coordinates → eye space
     glm::dvec3 eye{0.0};     // relative frame; for orthographic cameras a point on the eye plane
     glm::dvec3 forward{0.0, 0.0, -1.0}; // unit view direction
-    double near_distance = 0.01;
+    double near_distance = 0.01;             // where cells are cut: Camera::clipping_near(extent)
     double far_distance = 1.0e4;
     bool orthographic = false;
 

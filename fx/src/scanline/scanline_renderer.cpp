@@ -943,7 +943,7 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
     FrameGeometry geo;
     geo.mesh = &mesh_;
     geo.view = camera.view_matrix();
-    geo.near = camera.near_distance;
+    geo.near = camera.clipping_near(bounds_.empty() ? 0.0 : glm::length(bounds_.size()));
     DepthMap& dm = geo.depth;
     dm.ortho = camera.orthographic();
     dm.cx = 0.5 * width;
@@ -954,7 +954,7 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
         dm.zr = center_depth;
     } else {
         dm.f = 0.5 * height / std::tan(0.5 * glm::radians(camera.fov_y_degrees));
-        dm.zr = std::max(center_depth, camera.near_distance);
+        dm.zr = std::max(center_depth, geo.near);
     }
     const std::size_t point_count = mesh_.point_count();
     geo.points.swap(fb.points);
@@ -1228,7 +1228,7 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
         // The mesh's depth extent in pixel units: rounding of z is relative to it.
         const double radius = bounds_.empty() ? 0.0 : 0.5 * glm::length(bounds_.size());
         const double z_far = dm.to_screen(dm.zr + radius);
-        const double z_near = dm.to_screen(std::max(dm.zr - radius, camera.near_distance));
+        const double z_near = dm.to_screen(std::max(dm.zr - radius, geo.near));
         ctx.z_tolerance = 1e-6 * (std::abs(z_far) + std::abs(z_near));
     }
 

@@ -67,13 +67,16 @@ struct LodSettings {
 
 // What one update() changed, for consumers that follow the mesh as it changes (fog prisms, the
 // surface's buffers) instead of extracting it whole. Fans live in slots 0 .. fan_count() − 1;
-// a slot listed here holds a fan it did not hold before the update (rebuilt, new, or another
-// fan moved into it), and slots from fan_count() up to fans_before are gone. Vertices are
-// samples (j·size + i) whose morphed height or thickness changed.
+// a slot listed in `fans` holds a fan it did not hold before the update (rebuilt, new, or
+// another fan moved into it), and slots from fan_count() up to fans_before are gone. The same
+// changes by the fan's node (its centre sample) in `fan_nodes`: nodes whose fan is new, rebuilt
+// differently or gone (fan_of() says which) — a fan that only moved to another slot is not
+// among them. Vertices are samples (j·size + i) whose morphed height or thickness changed.
 struct LodChanges {
     bool full = true; // rebuilt from the root (or before the first update): take everything anew
     std::size_t fans_before = 0;
     std::vector<std::uint32_t> fans;
+    std::vector<std::uint32_t> fan_nodes;
     std::vector<std::uint32_t> vertices;
 };
 
@@ -156,6 +159,7 @@ public:
     // The fans, by slot, and the vertices as morphed (samples j·size + i).
     std::size_t fan_count() const;
     LodFan fan(std::size_t slot) const;
+    bool fan_of(std::uint32_t node, LodFan& out) const; // false: the node draws no fan
     glm::dvec3 vertex_position(std::uint32_t sample) const;
     float vertex_thickness(std::uint32_t sample) const; // 0 without a layer
 

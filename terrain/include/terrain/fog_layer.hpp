@@ -71,7 +71,7 @@ private:
 };
 
 // The prisms of a TerrainLod followed as it refines: built from its fans once, then after each
-// refinement only the fans it rebuilt and the vertices it moved (ContinuousLod::changes) are
+// refinement only the fans it rebuilt (by node: LodChanges::fan_nodes) and the vertices it moved are
 // written again, into the same mesh — prisms of a rebuilt fan replaced, a removed prism's place
 // taken by the last one, a moved vertex's two points rewritten — and listed in an
 // fx::MeshChanges for fx::CellRenderer::update_mesh. A LOD version it did not follow (skipped
@@ -105,18 +105,24 @@ private:
     std::uint32_t acquire_pair(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t sample,
                                fx::CellMesh& out, fx::MeshChanges& changes);
     void release_pair(std::uint32_t sample);
-    void add_fan(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t slot, fx::CellMesh& out,
+    void add_fan(const ContinuousLod& lod, const LayerPrismOptions& options, const LodFan& fan, fx::CellMesh& out,
                  fx::MeshChanges& changes);
-    void remove_fan(std::uint32_t slot, fx::CellMesh& out, fx::MeshChanges& changes);
+    void remove_fan(std::uint32_t node, fx::CellMesh& out, fx::MeshChanges& changes);
     void cell_changed(std::uint32_t cell, fx::MeshChanges& changes);
 
     const TerrainLod* built_ = nullptr; // the LOD and version `out` holds
     std::uint64_t version_ = 0;
     std::vector<std::uint32_t> sample_pair_;  // per sample: its point pair, or none
     std::vector<std::uint32_t> pair_sample_, pair_refs_, free_pairs_;
-    std::vector<std::array<std::uint32_t, 8>> slot_cells_; // per fan slot: its prisms' cells
-    std::vector<std::uint8_t> slot_prisms_;
-    std::vector<std::uint32_t> cell_owner_;   // per cell: fan slot · 8 + triangle
+    // The prisms of a fan, by its node: node → group of up to 8 cells (groups reused when freed).
+    struct Group {
+        std::array<std::uint32_t, 8> cells{};
+        std::uint32_t count = 0;
+    };
+    std::vector<std::uint32_t> node_group_;   // per sample: its fan's group, or none
+    std::vector<Group> groups_;
+    std::vector<std::uint32_t> free_groups_;
+    std::vector<std::uint32_t> cell_owner_;   // per cell: group · 8 + its place in the group
     std::vector<std::uint32_t> cell_listed_;  // per cell: the update that last listed it
     std::vector<std::uint32_t> pair_listed_;  // per pair: the same for its points
     std::uint32_t update_count_ = 0;

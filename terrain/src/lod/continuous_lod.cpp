@@ -27,11 +27,8 @@ enum : std::uint8_t { kCandidate = 1, kEvaluated = 2, kVertexDirty = 4, kFanDirt
 constexpr int kLevels = 15; // half sizes 1 .. 2^14
 constexpr std::int32_t kNoFan = -1;
 
-int level_of(int h) {
-    int l = 0;
-    while ((1 << l) < h) ++l;
-    return l;
-}
+// log2 of a half size (a power of two).
+int level_of(int h) { return __builtin_ctz(unsigned(h)); }
 
 struct Wake {
     double at;               // odometer value at which the node must be looked at again
@@ -103,10 +100,12 @@ struct ContinuousLod::Impl {
     struct Node {
         float d2 = 0.0f;
         float fe = 0.0f;                 // f_eff memo, valid when fe_frame == frame
-        float blend_f = 0.0f;            // f_eff at the node's own last evaluation: its blend's
+        float blend = 0.0f;              // the morph weight of its last evaluation (blend())
         std::uint32_t fe_frame = 0;
         std::uint32_t generation = 0;    // bumped when the node is rescheduled or removed
         std::int32_t fan = kNoFan;
+        std::uint32_t fan_changed = 0;   // the frame it last went into changes.fan_nodes
+        std::uint16_t i = 0, j = 0;      // the sample's grid coordinates (no division by n)
         std::uint8_t state = 0, flags = 0;
     };
     struct Vertex {
@@ -141,8 +140,8 @@ struct ContinuousLod::Impl {
     LodStats* stats = nullptr;
 
     // ---- geometry of the quadtree ----
-    int ix(std::uint32_t s) const { return int(s % std::uint32_t(n)); }
-    int jy(std::uint32_t s) const { return int(s / std::uint32_t(n)); }
+    int ix(std::uint32_t s) const { return nodes[s].i; }
+    int jy(std::uint32_t s) const { return nodes[s].j; }
     std::uint32_t id(int i, int j) const { return std::uint32_t(j) * std::uint32_t(n) + std::uint32_t(i); }
     bool center(int i, int j) const {
         return i > 0 && j > 0 && i < n - 1 && j < n - 1 && (i & -i) == (j & -j);
@@ -154,7 +153,8 @@ struct ContinuousLod::Impl {
         return {ground.x(ix(s)), ground.y(jy(s)), double(verts[s].true_h)};
     }
     // Centre of the parent of node (i, j, h): the odd multiple of 2h among i ± h.
-    int parent_coord(int i, int h) const { return ((i - h) / (2 * h)) % 2 == 1 ? i - h : i + h; }
+    // (i − h = 2h·k: k is odd exactly when bit 2h of i − h is set.)
+    int parent_coord(int i, int h) const { return ((i - h) & (2 * h)) ? i - h : i + h; }
     // The coarser nodes a split of (i, j, h) needs split too: its parent and the parent's
     // neighbours across the two parent edges the node touches. Returns how many (≤ 3).
     int required(int i, int j, int h, std::uint32_t out[3]) const {
@@ -180,9 +180,11 @@ struct ContinuousLod::Impl {
         return 2.0 * h * ground.spacing * settings.min_resolution * std::max(c_eff * double(nodes[s].d2), 1.0);
     }
     double own_f(std::uint32_t s, int h) const { return glm::length(last_eye - center_position(s)) / node_scale(s, h); }
-    double f_eff(std::uint32_t s, int h) {
+    // f_eff, memoized per frame; `own` (when given and computed here) receives f.
+    double f_eff(std::uint32_t s, int h, double* own = nullptr) {
         if (nodes[s].fe_frame == frame) return nodes[s].fe;
         double f = own_f(s, h);
+        if (own) *own = f;
         ++stats->nodes_evaluated;
         if (s != root) {
             std::uint32_t req[3];
@@ -193,25 +195,20 @@ struct ContinuousLod::Impl {
         nodes[s].fe_frame = frame;
         return nodes[s].fe;
     }
-    // How many steps the node's weight takes from 0 to 1 (LodSettings::morph_steps): so that a
-    // step moves a vertex by at most 2τ/morph_steps pixels. While a node morphs its height error
-    // covers under 2τ·min(c·d2, 1) pixels (f < 1 splits it where the error reaches τ pixels, or
-    // earlier by the C·d rule where the ground is smooth), so a smooth node needs fewer steps.
-    int morph_steps(std::uint32_t s) const {
-        const double rough = std::min(c_eff * double(nodes[s].d2), 1.0);
-        return std::clamp(int(std::ceil(settings.morph_steps * rough)), 1, settings.morph_steps);
+    // The node's geomorph weight b = 2(1 − f_eff) in (0, 1) while it morphs, in steps of
+    // 1/morph_steps (LodSettings; continuous with none), from its own last evaluation — not the
+    // memo a finer node's constraint chain may have refreshed since: its vertices were computed
+    // with this one.
+    double morph_blend(double f) const {
+        const double b = std::clamp(2.0 * (1.0 - f), 0.0, 1.0);
+        if (settings.morph_steps <= 0) return b;
+        return std::round(b * settings.morph_steps) / settings.morph_steps;
     }
-    // The node's geomorph weight b, in steps (morph_steps above; continuous with none).
     double blend(std::uint32_t s) const {
         const std::uint8_t st = nodes[s].state;
         if (!(st & kSplit)) return 0.0;
         if (!settings.geomorph || !(st & kMorph)) return 1.0;
-        // From the node's own evaluation, not the memo a finer node's constraint chain may have
-        // refreshed since: its vertices were computed with this one.
-        const double b = std::clamp(2.0 * (1.0 - double(nodes[s].blend_f)), 0.0, 1.0);
-        if (settings.morph_steps <= 0) return b;
-        const int steps = morph_steps(s);
-        return std::round(b * steps) / steps;
+        return nodes[s].blend;
     }
 
     void mark(std::uint32_t s, std::uint8_t flag) {
@@ -252,7 +249,7 @@ struct ContinuousLod::Impl {
             }
             // Looked at again when b·steps may cross a half step (its rounded value changes) or f
             // may leave (0.5, 1): b = 2(1 − f), so f moves by 1/(2·steps) per step of b.
-            const int steps = morph_steps(s);
+            const int steps = settings.morph_steps;
             const double x = 2.0 * (1.0 - f) * steps;
             margin = std::min({std::abs(x - std::floor(x) - 0.5) / (2.0 * steps), f - 0.5, 1.0 - f});
         } else {
@@ -275,10 +272,11 @@ struct ContinuousLod::Impl {
         mark(s, kEvaluated);
         ++stats->nodes_examined;
         const std::uint8_t before = nodes[s].state;
-        const double blend_before = blend(s); // from the f of its last evaluation
-        const double f = f_eff(s, h);
-        nodes[s].blend_f = float(f);
-        if (f > own_f(s, h) * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
+        const double blend_before = blend(s); // from its last evaluation
+        double own = -1.0;
+        const double f = f_eff(s, h, &own);
+        nodes[s].blend = float(morph_blend(f));
+        if (own >= 0.0 && f > own * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
         const bool want = f < 1.0;
         if (want && !(before & kSplit)) split(s, h);
         else if (!want && (before & kSplit)) merge(s, h);
@@ -391,7 +389,7 @@ struct ContinuousLod::Impl {
                     const Fan& fan = fans[std::size_t(f)];
                     bool in = fan.node == v;
                     for (std::uint32_t k = 0; k < fan.count && !in; ++k) in = fan.ring[k] == v;
-                    if (in) fan_slot_changed(std::size_t(f));
+                    if (in) fan_slot_changed(std::size_t(f)), fan_of_node_changed(fan.node);
                 }
         }
     }
@@ -417,11 +415,18 @@ struct ContinuousLod::Impl {
     }
 
     // ---- fans ----
+    // Slot f holds another fan than before (LodChanges::fans, for slot-indexed consumers).
     void fan_slot_changed(std::size_t f) {
         if (fan_changed.size() <= f) fan_changed.resize(std::max(f + 1, fan_changed.size() + fan_changed.size() / 2), 0u);
         if (fan_changed[f] == frame) return;
         fan_changed[f] = frame;
         changes.fans.push_back(std::uint32_t(f));
+    }
+    // Node s's fan is new, different or gone (LodChanges::fan_nodes).
+    void fan_of_node_changed(std::uint32_t s) {
+        if (nodes[s].fan_changed == frame) return;
+        nodes[s].fan_changed = frame;
+        changes.fan_nodes.push_back(s);
     }
     void drop_fan(std::uint32_t s) {
         const std::int32_t f = nodes[s].fan;
@@ -431,6 +436,7 @@ struct ContinuousLod::Impl {
         nodes[fans[f].node].fan = f;
         fans.pop_back();
         nodes[s].fan = kNoFan;
+        fan_of_node_changed(s);
         if (std::size_t(f) < fans.size()) fan_slot_changed(std::size_t(f)); // the last fan moved in
     }
     void rebuild_fan(std::uint32_t s) {
@@ -454,16 +460,19 @@ struct ContinuousLod::Impl {
                 fan.ring[fan.count++] = id(i + (ci[side] + ci[c]) * h / 2, j + (cj[side] + cj[c]) * h / 2);
             }
         }
-        ++stats->fans_rebuilt;
         if (nodes[s].fan == kNoFan) {
             nodes[s].fan = std::int32_t(fans.size());
             fans.push_back(fan);
         } else {
-            triangles -= fans[nodes[s].fan].count;
-            fans[nodes[s].fan] = fan;
+            Fan& old = fans[nodes[s].fan];
+            if (old.count == fan.count && std::equal(fan.ring, fan.ring + fan.count, old.ring)) return; // as it was
+            triangles -= old.count;
+            old = fan;
         }
+        ++stats->fans_rebuilt;
         triangles += fan.count;
         fan_slot_changed(std::size_t(nodes[s].fan));
+        fan_of_node_changed(s);
     }
 
     // ---- storage ----
@@ -479,6 +488,7 @@ struct ContinuousLod::Impl {
         morph_wakes.reserve(2 * reserved_live);
         changes.vertices.reserve(8 * reserved_live);
         changes.fans.reserve(reserved_live);
+        changes.fan_nodes.reserve(reserved_live);
     }
 
     // ---- one update ----
@@ -586,6 +596,7 @@ struct ContinuousLod::Impl {
         K = s.min_resolution / (2.0 * (s.min_resolution - 1.0));
         const std::size_t count = std::size_t(n) * std::size_t(n);
         nodes.assign(count, Node{});
+        for (std::size_t k = 0; k < count; ++k) nodes[k].i = std::uint16_t(k % std::size_t(n)), nodes[k].j = std::uint16_t(k / std::size_t(n));
         verts.assign(count, Vertex{});
         for (std::size_t k = 0; k < count; ++k) {
             verts[k].true_h = verts[k].h = ground.heights[k];
@@ -663,6 +674,7 @@ LodStats ContinuousLod::update(const LodView& view) {
     m.changes.full = false;
     m.changes.fans_before = m.fans.size();
     m.changes.fans.clear();
+    m.changes.fan_nodes.clear();
     m.changes.vertices.clear();
     m.reserve_for_tree();
 
@@ -769,6 +781,12 @@ void ContinuousLod::extract(LodMesh& out) const {
 
 const LodChanges& ContinuousLod::changes() const { return impl_->changes; }
 std::size_t ContinuousLod::fan_count() const { return impl_->fans.size(); }
+
+bool ContinuousLod::fan_of(std::uint32_t node, LodFan& out) const {
+    if (node >= impl_->nodes.size() || impl_->nodes[node].fan == kNoFan) return false;
+    out = fan(std::size_t(impl_->nodes[node].fan));
+    return true;
+}
 
 LodFan ContinuousLod::fan(std::size_t slot) const {
     const Fan& f = impl_->fans[slot];

@@ -127,6 +127,8 @@ std::uint32_t LayerPrismTracker::acquire_pair(const ContinuousLod& lod, const La
     } else {
         pair = std::uint32_t(pair_sample_.size());
         pair_sample_.push_back(0), pair_refs_.push_back(0), pair_listed_.push_back(0);
+        // Every pair may be freed at once: room kept for that (no allocation when it happens).
+        if (free_pairs_.capacity() < pair_sample_.size()) free_pairs_.reserve(pair_sample_.capacity());
         out.points.resize(out.points.size() + 2);
         out.scalars[0].values.resize(out.scalars[0].values.size() + 2);
     }
@@ -170,41 +172,64 @@ void LayerPrismTracker::cell_changed(std::uint32_t cell, fx::MeshChanges& change
     changes.cells.push_back(cell);
 }
 
-void LayerPrismTracker::add_fan(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t slot,
+void LayerPrismTracker::add_fan(const ContinuousLod& lod, const LayerPrismOptions& options, const LodFan& fan,
                                 fx::CellMesh& out, fx::MeshChanges& changes) {
-    const LodFan fan = lod.fan(slot);
-    std::uint8_t prisms = 0;
+    // The centre and the ring once each: every triangle shares the centre and two ring vertices.
+    glm::dvec3 ring[8];
+    double ring_t[8];
+    const glm::dvec3 a = lod.vertex_position(fan.center);
+    const double ta = lod.vertex_thickness(fan.center);
+    for (std::uint32_t k = 0; k < fan.count; ++k)
+        ring[k] = lod.vertex_position(fan.ring[k]), ring_t[k] = lod.vertex_thickness(fan.ring[k]);
+    std::uint32_t group = kNoPair;
     for (std::uint32_t k = 0; k < fan.count; ++k) {
-        const std::uint32_t ia = fan.center, ib = fan.ring[k], ic = fan.ring[(k + 1) % fan.count];
+        const std::uint32_t next = (k + 1) % fan.count;
         // build_layer_prisms' rule: thickness at the corners summing to more than a millionth
         // of the longest edge (ContinuousLod lists the fans around a vertex whose thickness
-        // appears or vanishes, so a fan is looked at again when that can change).
-        const glm::dvec3 a = lod.vertex_position(ia), b = lod.vertex_position(ib), c = lod.vertex_position(ic);
+        // appears or vanishes, so a fan is looked at again when that can change). Only a thin
+        // layer needs the edges measured.
+        const double thickness = ta + ring_t[k] + ring_t[next];
+        if (!(thickness > 0.0)) continue;
+        const glm::dvec3 &b = ring[k], &c = ring[next];
         const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-        const double thickness =
-            double(lod.vertex_thickness(ia)) + double(lod.vertex_thickness(ib)) + double(lod.vertex_thickness(ic));
         if (!(thickness > 1e-6 * longest)) continue;
-        const std::uint32_t pa = acquire_pair(lod, options, ia, out, changes); // each prism holds its three pairs
-        const std::uint32_t pb = acquire_pair(lod, options, ib, out, changes);
-        const std::uint32_t pc = acquire_pair(lod, options, ic, out, changes);
+        if (group == kNoPair) {
+            if (!free_groups_.empty()) {
+                group = free_groups_.back();
+                free_groups_.pop_back();
+            } else {
+                group = std::uint32_t(groups_.size());
+                groups_.emplace_back();
+                if (free_groups_.capacity() < groups_.size()) free_groups_.reserve(groups_.capacity());
+            }
+            groups_[group].count = 0;
+            node_group_[fan.center] = group;
+        }
+        const std::uint32_t pa = acquire_pair(lod, options, fan.center, out, changes); // each prism holds its three pairs
+        const std::uint32_t pb = acquire_pair(lod, options, fan.ring[k], out, changes);
+        const std::uint32_t pc = acquire_pair(lod, options, fan.ring[next], out, changes);
         // LOD triangles wind counter-clockwise from above; VTK's base (0, 1, 2) must face down.
         const std::uint32_t wedge[6] = {2 * pa, 2 * pc, 2 * pb, 2 * pa + 1, 2 * pc + 1, 2 * pb + 1};
         const std::uint32_t cell = std::uint32_t(out.cell_count());
         out.add_cell(fx::CellType::Wedge, wedge);
-        cell_owner_.push_back(8 * slot + prisms);
-        slot_cells_[slot][prisms++] = cell;
+        Group& g = groups_[group];
+        cell_owner_.push_back(8 * group + g.count);
+        g.cells[g.count++] = cell;
         cell_changed(cell, changes);
     }
-    slot_prisms_[slot] = prisms;
 }
 
-void LayerPrismTracker::remove_fan(std::uint32_t slot, fx::CellMesh& out, fx::MeshChanges& changes) {
+void LayerPrismTracker::remove_fan(std::uint32_t node, fx::CellMesh& out, fx::MeshChanges& changes) {
+    const std::uint32_t group = node_group_[node];
+    if (group == kNoPair) return;
+    node_group_[node] = kNoPair;
+    free_groups_.push_back(group);
     // Largest cell first: the last cell, moved into a freed place, is never one still to remove.
-    std::array<std::uint32_t, 8> cells = slot_cells_[slot];
-    const std::uint8_t n = slot_prisms_[slot];
-    for (std::uint8_t i = 1; i < n; ++i) // at most 8: insertion sort, largest first
-        for (std::uint8_t j = i; j > 0 && cells[j - 1] < cells[j]; --j) std::swap(cells[j - 1], cells[j]);
-    for (std::uint8_t i = 0; i < n; ++i) {
+    std::array<std::uint32_t, 8> cells = groups_[group].cells;
+    const std::uint32_t n = groups_[group].count;
+    for (std::uint32_t i = 1; i < n; ++i) // at most 8: insertion sort, largest first
+        for (std::uint32_t j = i; j > 0 && cells[j - 1] < cells[j]; --j) std::swap(cells[j - 1], cells[j]);
+    for (std::uint32_t i = 0; i < n; ++i) {
         const std::uint32_t x = cells[i];
         const std::uint32_t* v = out.cell_vertices(x);
         for (int k = 0; k < 3; ++k) release_pair(pair_sample_[v[k] / 2]);
@@ -213,7 +238,7 @@ void LayerPrismTracker::remove_fan(std::uint32_t slot, fx::CellMesh& out, fx::Me
             std::copy_n(out.cell_vertices(last), 6, out.cell_vertices(x));
             const std::uint32_t owner = cell_owner_[last];
             cell_owner_[x] = owner;
-            slot_cells_[owner / 8][owner % 8] = x;
+            groups_[owner / 8].cells[owner % 8] = x;
             cell_changed(x, changes);
         }
         out.cell_types.pop_back();
@@ -222,7 +247,7 @@ void LayerPrismTracker::remove_fan(std::uint32_t slot, fx::CellMesh& out, fx::Me
         cell_owner_.pop_back();
         --out.blocks[0].cell_count;
     }
-    slot_prisms_[slot] = 0;
+    groups_[group].count = 0;
 }
 
 void LayerPrismTracker::build_whole(const ContinuousLod& lod, const LayerPrismOptions& options, fx::CellMesh& out,
@@ -233,13 +258,13 @@ void LayerPrismTracker::build_whole(const ContinuousLod& lod, const LayerPrismOp
     out.connectivity.clear();
     out.scalars[0].values.clear();
     out.blocks[0].cell_count = 0;
-    sample_pair_.assign(std::size_t(lod.ground().size) * std::size_t(lod.ground().size), kNoPair);
+    const std::size_t samples = std::size_t(lod.ground().size) * std::size_t(lod.ground().size);
+    sample_pair_.assign(samples, kNoPair);
+    node_group_.assign(samples, kNoPair);
     pair_sample_.clear(), pair_refs_.clear(), free_pairs_.clear(), pair_listed_.clear();
+    groups_.clear(), free_groups_.clear();
     cell_owner_.clear();
-    const std::size_t fans = lod.fan_count();
-    slot_cells_.resize(fans);
-    slot_prisms_.assign(fans, 0);
-    for (std::uint32_t slot = 0; slot < fans; ++slot) add_fan(lod, options, slot, out, changes);
+    for (std::size_t slot = 0; slot < lod.fan_count(); ++slot) add_fan(lod, options, lod.fan(slot), out, changes);
     changes.whole = true;
 }
 
@@ -267,17 +292,13 @@ bool LayerPrismTracker::update(const TerrainLod& lod, const LayerPrismOptions& o
     if (built_ != &lod || version_ + 1 != lod.version() || c.full || out.scalars[0].values.size() != out.points.size()) {
         build_whole(l, options, out, changes);
     } else {
-        const std::size_t fans = l.fan_count();
-        // Removed slots, then rewritten ones (old prisms out, new in), then moved vertices.
-        for (std::size_t slot = fans; slot < c.fans_before; ++slot) remove_fan(std::uint32_t(slot), out, changes);
-        for (std::uint32_t slot : c.fans)
-            if (slot < fans && slot < c.fans_before) remove_fan(slot, out, changes);
-        if (slot_cells_.size() < fans) {
-            slot_cells_.resize(fans);
-            slot_prisms_.resize(fans, 0);
+        // The fans that changed (by node: a fan that only moved slot keeps its prisms), then
+        // the moved vertices.
+        for (std::uint32_t node : c.fan_nodes) {
+            remove_fan(node, out, changes);
+            LodFan fan;
+            if (l.fan_of(node, fan)) add_fan(l, options, fan, out, changes);
         }
-        for (std::uint32_t slot : c.fans)
-            if (slot < fans) add_fan(l, options, slot, out, changes);
         for (std::uint32_t sample : c.vertices)
             if (sample_pair_[sample] != kNoPair) set_points(l, options, sample_pair_[sample], out, changes);
         // A cell listed, then moved away and removed in the same update is gone.

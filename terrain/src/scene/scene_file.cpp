@@ -40,7 +40,10 @@ public:
         return fx::Error(source_ + ": " + (where.empty() ? "" : where + ": ") + what);
     }
     bool has(const std::string& key) const { return j_.contains(key); }
+    // The value at a key the section must have (a missing one is an error naming it, not
+    // nlohmann's out_of_range escaping the reader).
     const json& at(const std::string& key) {
+        if (!has(key)) throw error(key, "is required");
         used_.insert(key);
         return j_.at(key);
     }
