@@ -290,6 +290,12 @@ TEST_CASE("samples reject bad arguments with a message", "[samples]") {
     CHECK(save.status == 1);
     CHECK(save.output.find("--save: this sample shows no scene file") != std::string::npos);
     CHECK(save.output.find("frame 0") == std::string::npos); // refused before any frame
+    const std::string nowhere = fx_test::output_path("no_such_folder/tuned.json");
+    const Run unwritable = run(sample_binary("campfire") + " --headless --frames 1 --save " + nowhere);
+    INFO(unwritable.output);
+    CHECK(unwritable.status == 1);
+    CHECK(unwritable.output.find("--save " + nowhere) != std::string::npos);
+    CHECK(unwritable.output.find("frame 0") == std::string::npos); // before the tuning it would lose
 }
 
 TEST_CASE("sample campfire in a GLFW window equals its headless frames", "[samples-window]") {

@@ -12,9 +12,9 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "file_output.hpp"
 #include "fx/error.hpp"
 #include "gl_call_clock.hpp"
+#include "io/output_file.hpp"
 #include "panel.hpp"
 #include "cellfx_names.hpp"
 
@@ -352,7 +352,7 @@ void FrameLoop::save() {
     const std::string folder = file.parent_path().empty() ? "." : file.parent_path().string();
     const std::optional<std::string> text = content_.scene_file_text(folder);
     if (!text) throw fx::Error("save: " + name_ + " has no scene file to save");
-    write_whole_file(options_.save, *text);
+    fx::io::write_output_file(options_.save, *text); // whole or not at all
     set_message("saved the tuned scene to " + options_.save);
 }
 

@@ -43,6 +43,14 @@ void apply_start_options(SampleContent& content, const SampleOptions& options) {
     // --save names a file for the tuned scene: refused at once where there is no scene to save.
     if (!options.save.empty() && !content.scene_file_text("."))
         throw fx::Error("--save: this sample shows no scene file (a mesh viewer): there is nothing to save");
+    // ... and where it cannot be written, before the tuning that would be lost.
+    if (!options.save.empty()) {
+        try {
+            fx::io::check_output_file(options.save);
+        } catch (const fx::Error& e) {
+            throw fx::Error(std::string("--save ") + e.what());
+        }
+    }
     if (options.path) content.set_path(*options.path);
     const std::vector<std::string> names = content.toggle_names();
     for (const std::string& off : options.disable) {
