@@ -140,11 +140,15 @@ TEST_CASE("Density set-ups: layer height, 2-D noise, lower border", "[terrain][p
     terrain::LayerPrismOptions border;
     border.density = terrain::LayerDensity::LowerBorder;
     border.scalar_name = "emission";
+    CHECK_THROWS_WITH(terrain::build_layer_prisms(mesh, border), Catch::Contains("fade height"));
+    border.fade_height = 40.0;
     const fx::CellMesh b = terrain::build_layer_prisms(mesh, border);
     REQUIRE(b.find_scalar("emission"));
     for (std::size_t p = 0; p + 1 < b.point_count(); p += 2) {
+        // 1 at the bottom, falling by 1 per fade height: linear in height, whatever the column's.
+        const double t = b.points[p + 1].z - b.points[p].z;
         CHECK(b.scalars[0].values[p] == 1.0f);
-        CHECK(b.scalars[0].values[p + 1] == 0.0f);
+        CHECK(b.scalars[0].values[p + 1] == Approx(std::max(0.0, 1.0 - t / 40.0)).margin(1e-6));
     }
     terrain::LayerPrismOptions missing;
     missing.density = terrain::LayerDensity::Noise;
@@ -190,6 +194,7 @@ TEST_CASE("Aurora curtains hang from the ceiling by the penetration depth", "[te
     lod.update(close_view({0, -3000, 500}, 1.0));
     terrain::LayerPrismOptions options;
     options.density = terrain::LayerDensity::LowerBorder;
+    options.fade_height = depth.max_height();
     terrain::LayerPrismStats stats;
     const fx::CellMesh prisms = terrain::build_layer_prisms(lod.mesh(), options, &stats);
     CHECK(stats.prisms > 50);

@@ -16,7 +16,9 @@
 //   LayerHeight   0 at the ground, scale·thickness at the top: the paper's MIP set-up (§5),
 //                 denser where the layer is deeper;
 //   Noise         scale·max(noise(x, y), 0) at both ends: 2-D noise, constant up a column;
-//   LowerBorder   scale at the bottom, 0 at the top (aurora: brightest where the particles stop).
+//   LowerBorder   scale at the bottom, falling linearly to 0 at fade_height above it (aurora:
+//                 brightest where the particles stop). Linear in height, like LayerHeight, so a
+//                 side face's density does not depend on how its quad is cut into triangles.
 #pragma once
 
 #include <array>
@@ -39,6 +41,7 @@ struct LayerPrismOptions {
     LayerDensity density = LayerDensity::LayerHeight;
     double density_scale = 1.0;
     HeightGenerator noise;             // LayerDensity::Noise: world (x, y) → density before scaling
+    double fade_height = 0.0;          // LayerDensity::LowerBorder: where the density reaches 0 (> 0)
     std::string scalar_name = "density";
 };
 

@@ -74,8 +74,8 @@ private:
 };
 
 // Aurora curtains: prisms hanging from the ceiling by the penetration depth (make_aurora_layer),
-// on their own LOD, density LayerDensity::LowerBorder (1 where the particles stop, 0 at the
-// ceiling): scalar "emission" in [0, 1].
+// on their own LOD, density LayerDensity::LowerBorder (1 where the particles stop, falling to 0
+// at the deepest curtain's ceiling): scalar "emission" in [0, 1].
 class Aurora final : public LayerEffect {
 public:
     // Throws like ContinuousLod's constructor.

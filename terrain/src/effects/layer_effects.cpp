@@ -84,6 +84,7 @@ Aurora::Aurora(const AuroraLayer& layer, const LodSettings& lod, const LayerEffe
     : LayerEffect("emission", settings), lod_(layer.lower_border, layer.depth, lod) {
     prisms_.density = LayerDensity::LowerBorder;
     prisms_.scalar_name = "emission";
+    prisms_.fade_height = std::max(double(layer.depth.max_height()), 1.0); // reaches 0 at the deepest curtain's top
     bounds_ = layer_bounds(layer.lower_border, layer.depth);
 }
 

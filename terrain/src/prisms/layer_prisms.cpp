@@ -20,11 +20,36 @@ fx::CellMesh build_layer_prisms(const LodMesh& mesh, const LayerPrismOptions& op
     return out;
 }
 
-void LayerPrismBuilder::build(const LodMesh& mesh, const LayerPrismOptions& options, fx::CellMesh& out,
-                              LayerPrismStats* stats, const fx::Frustum* view) {
+namespace {
+
+void check_options(const LayerPrismOptions& options) {
     if (options.density == LayerDensity::Noise && !options.noise)
         throw fx::Error("layer prisms: noise density needs a noise generator");
     if (!std::isfinite(options.density_scale)) throw fx::Error("layer prisms: density scale is not finite");
+    if (options.density == LayerDensity::LowerBorder && !(options.fade_height > 0.0 && std::isfinite(options.fade_height)))
+        throw fx::Error("layer prisms: lower-border density needs a fade height > 0 (got " +
+                        std::to_string(options.fade_height) + ")");
+}
+
+// The density at the top of a column `t` thick whose bottom has `bottom` (the Noise density's
+// top is its bottom). LayerHeight and LowerBorder are linear in the height above the bottom, so
+// on a prism's side quad the density is one linear function: the picture does not depend on
+// which diagonal cuts the quad, which follows the point numbering (an incremental mesh numbers
+// its points otherwise than a fresh build).
+double top_density(const LayerPrismOptions& options, double t, double bottom) {
+    switch (options.density) {
+    case LayerDensity::LayerHeight: return options.density_scale * t;
+    case LayerDensity::Noise: return bottom;
+    case LayerDensity::LowerBorder: return options.density_scale * std::max(0.0, 1.0 - t / options.fade_height);
+    }
+    return bottom;
+}
+
+} // namespace
+
+void LayerPrismBuilder::build(const LodMesh& mesh, const LayerPrismOptions& options, fx::CellMesh& out,
+                              LayerPrismStats* stats, const fx::Frustum* view) {
+    check_options(options);
     LayerPrismStats s;
     // Emptied, capacity kept: one field, one block named "layer".
     out.points.clear();
@@ -55,10 +80,11 @@ void LayerPrismBuilder::build(const LodMesh& mesh, const LayerPrismOptions& opti
         const double t = std::max(double(mesh.thickness[v]), 0.0);
         double lo = 0.0, hi = 0.0;
         switch (options.density) {
-        case LayerDensity::LayerHeight: lo = 0.0, hi = options.density_scale * t; break;
-        case LayerDensity::Noise: lo = hi = options.density_scale * noise_at(p); break;
-        case LayerDensity::LowerBorder: lo = options.density_scale, hi = 0.0; break;
+        case LayerDensity::LayerHeight: lo = 0.0; break;
+        case LayerDensity::Noise: lo = options.density_scale * noise_at(p); break;
+        case LayerDensity::LowerBorder: lo = options.density_scale; break;
         }
+        hi = top_density(options, t, lo);
         bottom_[v] = std::uint32_t(out.points.size());
         out.points.push_back(p);
         out.points.push_back(p + glm::dvec3(0.0, 0.0, t));
@@ -106,7 +132,7 @@ void LayerPrismTracker::set_points(const ContinuousLod& lod, const LayerPrismOpt
     out.points[2 * pair] = p;
     out.points[2 * pair + 1] = p + glm::dvec3(0.0, 0.0, t);
     std::vector<float>& density = out.scalars[0].values;
-    if (options.density == LayerDensity::LayerHeight) density[2 * pair + 1] = float(options.density_scale * t);
+    density[2 * pair + 1] = float(top_density(options, t, density[2 * pair]));
     if (pair_listed_[pair] != update_count_) {
         pair_listed_[pair] = update_count_;
         changes.points.push_back(2 * pair);
@@ -135,10 +161,10 @@ std::uint32_t LayerPrismTracker::acquire_pair(const ContinuousLod& lod, const La
     sample_pair_[sample] = pair;
     pair_sample_[pair] = sample;
     pair_refs_[pair] = 1;
-    // The density of both ends (build_layer_prisms' rules); LayerHeight's top follows the
-    // thickness in set_points.
+    // The density at the bottom (build_layer_prisms' rules); the top's follows the thickness in
+    // set_points.
     const glm::dvec3 p = lod.vertex_position(sample);
-    double lo = 0.0, hi = 0.0;
+    double bottom = 0.0;
     switch (options.density) {
     case LayerDensity::LayerHeight: break;
     case LayerDensity::Noise: {
@@ -146,13 +172,12 @@ std::uint32_t LayerPrismTracker::acquire_pair(const ContinuousLod& lod, const La
         if (!std::isfinite(v))
             throw fx::Error("layer prisms: the noise generator gave a non-finite value at (" + std::to_string(p.x) + ", " +
                             std::to_string(p.y) + ")");
-        lo = hi = options.density_scale * std::max(v, 0.0);
+        bottom = options.density_scale * std::max(v, 0.0);
         break;
     }
-    case LayerDensity::LowerBorder: lo = options.density_scale, hi = 0.0; break;
+    case LayerDensity::LowerBorder: bottom = options.density_scale; break;
     }
-    out.scalars[0].values[2 * pair] = float(lo);
-    out.scalars[0].values[2 * pair + 1] = float(hi);
+    out.scalars[0].values[2 * pair] = float(bottom);
     pair_listed_[pair] = update_count_ - 1; // written anew: listed whatever it was
     set_points(lod, options, pair, out, changes);
     return pair;
@@ -272,9 +297,7 @@ bool LayerPrismTracker::update(const TerrainLod& lod, const LayerPrismOptions& o
                                fx::MeshChanges& changes, LayerPrismStats* stats) {
     const ContinuousLod& l = lod.lod();
     if (!l.layer()) throw fx::Error("layer prisms: the LOD has no layer");
-    if (options.density == LayerDensity::Noise && !options.noise)
-        throw fx::Error("layer prisms: noise density needs a noise generator");
-    if (!std::isfinite(options.density_scale)) throw fx::Error("layer prisms: density scale is not finite");
+    check_options(options);
     if (built_ == &lod && version_ == lod.version()) return false;
     // One field, one block named "layer".
     out.scalars.resize(1);
