@@ -439,27 +439,13 @@ TEST_CASE("classic flavour's CPU half, rasterised in software, against the scan-
     // polygon (linear on screen); what is left is the polygon colour C/α interpolated linearly
     // between exact vertex values (§II's approximation) and the opacity table's bilinear error
     // (< 4e-5). Measured 0.15% of peak at worst: per pixel 0.5%, mean 0.02% of peak.
-    float peak = 0.0f;
-    for (const glm::vec4& p : expected.pixels) peak = std::max({peak, p.r, p.g, p.b, p.a});
-    double sum = 0.0, worst = 0.0;
-    std::size_t compared = 0;
-    for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
-        if (check.bad[i]) continue;
-        ++compared;
-        for (int c = 0; c < 4; ++c) {
-            const double d = std::abs(actual.pixels[i][c] - expected.pixels[i][c]);
-            sum += d, worst = std::max(worst, d);
-        }
-    }
-    const double mean = sum / (4.0 * double(compared));
-    WARN("classic CPU half: pixels out of order " << check.pixels_wrong << " of " << check.pixels_crossed
-                                                  << ", max delta " << worst / peak * 100 << "% of peak, mean "
-                                                  << mean / peak * 100 << "%, pieces " << g.pieces);
+    INFO("pixels out of order " << check.pixels_wrong << " of " << check.pixels_crossed << ", pieces " << g.pieces);
     CHECK(check.pixels_wrong == 0);
-    if (!(worst <= 0.005 * peak && mean <= 0.0002 * peak))
-        fx_test::write_failure_images("classic_cpu", actual, expected, 10.0f);
-    CHECK(worst <= 0.005 * peak);
-    CHECK(mean <= 0.0002 * peak);
+    verify::Tolerance t = verify::same_picture(0.0, "orthographic, sliced: §II's colour interpolation and the opacity table");
+    t.pixel.of_peak = 0.005, t.mean.of_peak = 0.0002;
+    verify::Options in_order;
+    in_order.skip = &check.bad;
+    fx_test::check_frame("classic_cpu", actual, expected, t, in_order);
 }
 
 TEST_CASE("classic builder: a hexahedron, wedge or pyramid draws what its consistent tetrahedra draw", "[absorption]") {
@@ -500,17 +486,10 @@ TEST_CASE("classic builder: a hexahedron, wedge or pyramid draws what its consis
             std::size_t cell_pieces = 0, tet_pieces = 0;
             const fx::Image cells = draw(mesh, &cell_pieces), pieces = draw(tets, &tet_pieces);
             CHECK(cell_pieces == tet_pieces);
-            float peak = 0.0f, worst = 0.0f;
-            for (std::size_t i = 0; i < cells.pixels.size(); ++i)
-                for (int c = 0; c < 4; ++c) {
-                    peak = std::max(peak, pieces.pixels[i][c]);
-                    worst = std::max(worst, std::abs(cells.pixels[i][c] - pieces.pixels[i][c]));
-                }
-            INFO(v.name << (slice ? ", sliced" : "") << ": max delta " << worst / peak << " of peak");
-            REQUIRE(peak > 0.0f);
-            if (!(worst <= 1e-6f * peak))
-                fx_test::write_failure_images(std::string("classic_cells_as_tets_") + v.name, cells, pieces, 10.0f);
-            CHECK(worst <= 1e-6f * peak);
+            verify::Tolerance same = verify::same_picture(0.0, "the same tetrahedra drawn: float rounding only");
+            same.pixel.of_peak = 1e-6, same.mean.of_peak = 1e-6;
+            fx_test::check_frame(std::string("classic_cells_as_tets_") + v.name + (slice ? "_sliced" : ""), cells, pieces,
+                                 same);
         }
     }
 }

@@ -78,33 +78,17 @@ fx::CellMesh box_with_linear_field(int n, glm::dvec3 lo, glm::dvec3 hi, glm::dve
     return mesh;
 }
 
-// Compares with three thresholds: per-pixel tolerance `pixel_tol` (max over channels), the
-// fraction of pixels allowed above it (`bad_fraction`: silhouette pixels, where float
-// rasterisation and the double-precision reference ray may disagree on whether a pixel centre
-// is inside a cell and the chord there changes fast), and the mean delta over all channels.
-// On failure writes actual/expected/diff PNGs named after the test.
+// Against a closed form: every channel within `pixel_tol` (absolute) but for a share
+// `bad_fraction` of the pixels (silhouette pixels, where float rasterisation and the
+// double-precision reference ray may disagree on whether a pixel centre is inside a cell and the
+// chord there changes fast: each still within `pixel_tol` of the closed form's range over its
+// 3×3 neighbourhood), and the mean |difference| within `mean_tol` (fx_test::check_frame).
 void check_frame(const std::string& name, const fx::Image& actual, const fx::Image& expected, float pixel_tol,
                  double mean_tol, double bad_fraction = 0.01) {
-    const fx_test::ImageDifference d = fx_test::compare_images(actual, expected);
-    std::size_t bad = 0;
-    int worst_x = -1, worst_y = -1;
-    float worst = 0.0f;
-    for (int y = 0; y < actual.height; ++y)
-        for (int x = 0; x < actual.width; ++x) {
-            const glm::vec4 e = glm::abs(actual.at(x, y) - expected.at(x, y));
-            const float m = std::max(std::max(e.r, e.g), std::max(e.b, e.a));
-            if (!(m <= pixel_tol)) ++bad;
-            if (!(m <= worst)) worst = m, worst_x = x, worst_y = y;
-        }
-    const double fraction = double(bad) / double(actual.pixels.size());
-    INFO(name << ": " << bad << " pixels (" << fraction * 100.0 << "%) above " << pixel_tol << "; worst " << worst
-              << " at (" << worst_x << ", " << worst_y << ")"
-              << "; actual " << (worst_x >= 0 ? actual.at(worst_x, worst_y).b : 0.0f) << " expected "
-              << (worst_x >= 0 ? expected.at(worst_x, worst_y).b : 0.0f) << " (blue); mean delta " << d.mean_delta << " (tolerance " << mean_tol << ")");
-    const bool ok = fraction <= bad_fraction && d.mean_delta <= mean_tol;
-    if (!ok) INFO("images: " << fx_test::write_failure_images(name, actual, expected));
-    CHECK(fraction <= bad_fraction);
-    CHECK(d.mean_delta <= mean_tol);
+    verify::Tolerance t;
+    t.pixel.absolute = pixel_tol, t.mean.absolute = mean_tol, t.share_beyond = bad_fraction;
+    t.why = "closed form of a linear field in a box (bounds stated at each test)";
+    fx_test::check_frame(name, actual, expected, t);
 }
 
 fx::Camera perspective(glm::dvec3 eye, glm::dvec3 target, double near_d = 0.05) {
@@ -189,8 +173,7 @@ TEST_CASE("pcp classic: a box with a linear scalar, 8-bit error measured", "[gl]
     fx::CellRenderStats stats;
     const fx::Image img = r.render_to_image(cam, 64, 64, fx::RenderPath::Pcp, {}, &stats);
     const fx::Image ref = box_reference(cam, 64, 64, {0, 0, 0}, {1, 1, 1}, grad, 0.2, tf, Expect::Emission);
-    const fx_test::ImageDifference d = fx_test::compare_images(img, ref);
-    WARN("classic pcp vs closed form: max " << d.max_delta << ", mean " << d.mean_delta << ", batches " << stats.batches);
+    INFO("batches " << stats.batches);
     CHECK(stats.batches > 1);
     CHECK(stats.cells_drawn == mesh.cell_count());
     // ≤ 4 cells along a ray here: each adds ≤ 0.5/255 rounding of its colour, ≤ 2/255·(its

@@ -145,6 +145,7 @@ const std::vector<NumericOption> kNumericOptions = {
     {"bench terrain", "frames", K::Integer, 1, kMaxRepeat, false, nullptr, "fog valley frames timed per path"},
     {"bench terrain", "views", K::Integer, 1, kMaxViews, false, nullptr, "views of the pixels-changed test"},
     {"bench terrain", "sizes", K::IntegerList, 3, 16385, false, "height-samples", "height field sides, each 2^n + 1"},
+    {"bench terrain", "size", K::Size, 1, kMaxImageSide, false, "image-pixels", "frame width x height (WxH)"},
     {"bench absorption", "size", K::Size, 1, kMaxImageSide, false, "image-pixels", "image width x height (WxH)"},
     {"bench absorption", "frames", K::Integer, 1, kMaxRepeat, false, nullptr, "frames timed per sort"},
     {"bench absorption", "cells", K::Integer, 6, 1e9, false, "mesh-cells", "tetrahedra of the box scene"},
