@@ -4,7 +4,7 @@
 # the scan-line renderer, --json), then the same mesh, orbit, image size and transfer function in
 # VTK (scripts/compare_vtk.py under xvfb-run), then one table of cells/s and ratios.
 #   bash scripts/compare_vtk.sh FILE [Q_FILE] [cellfx bench render options]
-#   e.g. bash scripts/compare_vtk.sh /work/shared/data/spx/spx.inp --sort xmpvo,centroid
+#   e.g. bash scripts/compare_vtk.sh ../shared/data/spx/spx.inp --sort xmpvo,centroid
 # Installs python3-vtk9, xvfb and xauth if missing (scripts/setup.sh vtk). Writes the JSON, the
 # mesh as VTK (cellfx convert) and view 0 of every renderer as PNG into
 # $CELLFX_COMPARE_OUT (default out/compare_vtk/<mesh name>). CELLFX_VTK_SECONDS=S stops each VTK

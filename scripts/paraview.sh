@@ -27,7 +27,7 @@ cmake -S "$root" -B "$CELLFX_PARAVIEW_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build "$CELLFX_PARAVIEW_BUILD" --target CellfxVolume cellfx_cli cellfx_paraview_tests cellfx_expat_fix
 
 if [ "${1:-}" = --test ]; then
-  ctest --test-dir "$CELLFX_PARAVIEW_BUILD/paraview" -L paraview --output-on-failure
+  ctest --test-dir "$CELLFX_PARAVIEW_BUILD/paraview" -L paraview --output-on-failure --no-tests=error
   exit
 fi
 

@@ -16,4 +16,5 @@ else
   bash "$root/scripts/build.sh" -DCELLFX_BUILD_TESTS=ON
 fi
 cd "${CELLFX_BUILD_DIR:-$root/build}"
-ctest --output-on-failure -j "$(nproc)"
+# --no-tests=error: a build that registered no tests fails rather than passing empty.
+ctest --output-on-failure --no-tests=error -j "$(nproc)"

@@ -8,14 +8,19 @@
 //
 // A tetrahedron is convex with one plane per face: clipping the ray by its four planes
 // (Cyrus–Beck: one dot product each) gives the entry, the last front-facing plane crossed, and
-// the exit, the first back-facing one. Other cells need more care: the two triangles of a
-// planar quad tie, a curvilinear cell's folded quads can make the winning plane one whose
-// triangle the ray misses, and a cell that folds inwards can be left and re-entered by one ray
-// (two back faces on one pixel, each of which must count its own part only). So there the exit
-// is the back-facing crossing nearest the fragment's own depth, and the entry the last
-// front-facing crossing before it (or, by rounding, just after it: then there is no segment); each must lie in its triangle (barycentric rows,
-// UNIT_BARYCENTRICS), else the other half of its quad is tried, else every triangle facing the
-// ray that way (one containing its crossing beats one that does not).
+// the exit, the first back-facing one. So does every planar cell (the planar bit of its word:
+// convex, its faces flat within kPlanarTolerance of its size, gl_interface.hpp), clipped by its
+// faces' planes (F of them: 5 or 6, not 12 triangles), with the scalar at either end from the
+// half of the quad crossed (one side of its diagonal plane or the other). Other cells need more
+// care: a curvilinear cell's folded quads can make the winning plane one whose triangle the ray
+// misses, and a cell that folds inwards can be left and re-entered by one ray (two back faces
+// on one pixel, each of which must count its own part only). So there the exit is the
+// back-facing crossing nearest the fragment's own depth, and the entry the last front-facing
+// crossing before it (or, by rounding, just after it: then there is no segment); each must lie
+// in its triangle (barycentric rows, UNIT_BARYCENTRICS), else the other half of its quad is
+// tried, else every triangle facing the ray that way (one containing its crossing beats one
+// that does not). A batch of fragments (of one triangle, so of one cell) takes one road or the
+// other, so a mesh pays the search only for its folded cells.
 //
 // The scalar at either end is face-linear on the triangle crossed (as the scan-line reference
 // has it), from that triangle's scalar function g·q + s0 — for a tetrahedron the cell's own
@@ -111,7 +116,7 @@ CellSegment clipped_segment(Ray ray, float t_front, float t_back, float s_front,
 // along the ray (s = g·(o + t·d) + s0). No branch: Mesa's llvmpipe runs both sides of every
 // branch some fragment of a batch takes.
 CellSegment cell_segment(Ray ray) {
-    int first = int(v_word >> uint(WORD_COUNT_BITS));
+    int first = int(v_word >> uint(WORD_FIRST_SHIFT));
     float t_front = -3.4e38, t_back = 3.4e38;
     for (int k = 0; k < 4; ++k) {
         vec4 plane = texelFetch(u_planes, first + k);
@@ -132,8 +137,43 @@ CellSegment cell_segment(Ray ray) {
     return segment;
 }
 #else
-CellSegment cell_segment(Ray ray) {
-    int first = int(v_word >> uint(WORD_COUNT_BITS)), triangles = int(v_word & ((1u << uint(WORD_COUNT_BITS)) - 1u)) + 1;
+// The scalar where the ray crosses face f of a planar cell at t: from the function of the
+// face's first half (slot f) or, for a quad crossed on the other side of its diagonal, of its
+// second half (slot F + its index among the quads, where its diagonal plane is too).
+float planar_face_scalar(int first, int faces, int face0, int f, Ray ray, float t) {
+    vec3 q = ray.origin + ray.dir * t;
+    int quad = kFaceQuad[face0 + f];
+    int second = first + faces + max(quad, 0);
+    vec4 diagonal = texelFetch(u_planes, second);
+    int slot = quad >= 0 && dot(diagonal.xyz, q) < diagonal.w ? second : first + f;
+    vec4 g = texelFetch(u_scalar_functions, slot);
+    return dot(g.xyz, q) + g.w;
+}
+
+// A planar cell: Cyrus–Beck through its faces' planes, as a tetrahedron's.
+CellSegment planar_cell_segment(Ray ray, int first, int triangles) {
+    int type = cell_type_of_triangles(triangles), faces = kCellFaceCount[type], face0 = kCellFaceFirst[type];
+    float t_front = -3.4e38, t_back = 3.4e38;
+    int front = -1, back = -1;
+    for (int f = 0; f < faces; ++f) {
+        vec4 plane = texelFetch(u_planes, first + f);
+        float den = dot(plane.xyz, ray.dir);
+        float t = (plane.w - dot(plane.xyz, ray.origin)) / den;
+        bool enters = den < -kGrazing && t > t_front, leaves = den > kGrazing && t < t_back;
+        t_front = enters ? t : t_front, front = enters ? f : front;
+        t_back = leaves ? t : t_back, back = leaves ? f : back;
+    }
+    if (front < 0 || back < 0 || !(t_back > t_front)) { // degenerate, or missed by rounding
+        CellSegment none;
+        none.s_in = none.s_out = none.length = none.t_in = 0.0;
+        return none;
+    }
+    return clipped_segment(ray, t_front, t_back, planar_face_scalar(first, faces, face0, front, ray, t_front),
+                           planar_face_scalar(first, faces, face0, back, ray, t_back));
+}
+
+// A cell that is not planar: the search of the header comment.
+CellSegment folded_cell_segment(Ray ray, int first, int triangles) {
     float t_front = -3.4e38, t_back = 3.4e38;
     int front = -1, back = -1;
     // The exit nearest the fragment, then the last entry before it (for a convex cell: the
@@ -162,5 +202,11 @@ CellSegment cell_segment(Ray ray) {
     }
     return clipped_segment(ray, t_front, t_back, face_scalar(first + front, ray, t_front),
                            face_scalar(first + back, ray, t_back));
+}
+
+CellSegment cell_segment(Ray ray) {
+    int first = int(v_word >> uint(WORD_FIRST_SHIFT)), triangles = int(v_word & ((1u << uint(WORD_COUNT_BITS)) - 1u)) + 1;
+    if ((v_word & (1u << uint(WORD_PLANAR_BIT))) != 0u) return planar_cell_segment(ray, first, triangles);
+    return folded_cell_segment(ray, first, triangles);
 }
 #endif

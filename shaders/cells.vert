@@ -37,7 +37,7 @@ void main() {
     if ((cell & (1u << PIECE_BIT_INDEX)) != 0u) {
         uint piece = cell & ~(1u << PIECE_BIT_INDEX);
         point = texelFetch(u_piece_points, int(piece))[min(k, 3)];
-        word = ((u_piece_base + 4u * piece) << WORD_COUNT_BITS) | 3u;
+        word = ((u_piece_base + 4u * piece) << WORD_FIRST_SHIFT) | (1u << WORD_PLANAR_BIT) | 3u; // a tetrahedron: planar
     } else
 #endif
     {

@@ -3,11 +3,16 @@
 // mesh's points and connectivity (fx/src/projector/gl_projector.hpp), so that a new or changed
 // mesh is a copy of its points and cells. One invocation per cell:
 //   tables    (every cell with UNIFORM_TABLE_ALL, else those whose connectivity or one of whose
-//             points changed since the stamp UNIFORM_TABLE_BUILT) per face triangle — quads cut
-//             by their smallest-vertex diagonal, as everywhere — its outward unit plane, its
-//             scalar function and, for cells other than tetrahedra of a mesh that has them, its
-//             barycentric rows: the same formulas as the CPU's (gl_projector.cpp), in double on
-//             the same float positions, rounded to float;
+//             points changed since the stamp UNIFORM_TABLE_BUILT) in the cell's triangle slots:
+//             for a planar cell (gl_interface.hpp, kPlanarTolerance; meshes with cells other than
+//             tetrahedra) its F faces' planes and then its Q quads' diagonal planes (the side of
+//             a quad's first half), the scalar function of each face's first half and then of
+//             each quad's second half — F + Q is its triangle count; for any other cell, per face
+//             triangle — quads cut by their smallest-vertex diagonal, as everywhere — its outward
+//             unit plane, its scalar function and, for cells other than tetrahedra of a mesh that
+//             has them, its barycentric rows; its word with the planar bit. The same formulas as
+//             the CPU's (gl_projector.cpp, build_projector_tables), in double on the same float
+//             positions, rounded to float;
 //   elements  (UNIFORM_TABLE_ELEMENTS, or a cell whose tables were rebuilt) the cell's triangles
 //             as vertex ids cell·VERTICES_PER_CELL + k; with UNIFORM_TABLE_CULL a cell whose box
 //             lies wholly outside one of the view's side or near planes gets three copies of its
@@ -19,7 +24,6 @@ layout(local_size_x = 64) in;
 layout(binding = UNIT_POINTS) uniform samplerBuffer u_points;
 layout(binding = UNIT_CONNECTIVITY) uniform usamplerBuffer u_connectivity;
 layout(binding = UNIT_CELL_OFFSETS) uniform usamplerBuffer u_cell_offsets;
-layout(binding = UNIT_CELL_WORDS) uniform usamplerBuffer u_cell_words;
 
 layout(std430, binding = BINDING_PLANES_OUT) writeonly buffer Planes { vec4 planes[]; };
 layout(std430, binding = BINDING_SCALAR_FUNCTIONS_OUT) writeonly buffer Functions { vec4 functions[]; };
@@ -27,6 +31,7 @@ layout(std430, binding = BINDING_BARYCENTRICS_OUT) writeonly buffer Barycentrics
 layout(std430, binding = BINDING_ELEMENTS_OUT) writeonly buffer Elements { uint elements[]; };
 layout(std430, binding = BINDING_POINT_STAMPS) readonly buffer PointStamps { uint point_stamps[]; };
 layout(std430, binding = BINDING_CELL_STAMPS) readonly buffer CellStamps { uint cell_stamps[]; };
+layout(std430, binding = BINDING_CELL_WORDS_OUT) buffer CellWords { uint cell_words[]; };
 
 layout(location = UNIFORM_TABLE_CELLS) uniform uint u_cells;
 layout(location = UNIFORM_TABLE_BUILT) uniform uint u_built;
@@ -34,6 +39,7 @@ layout(location = UNIFORM_TABLE_ALL) uniform int u_all;
 layout(location = UNIFORM_TABLE_ELEMENTS) uniform int u_elements;
 layout(location = UNIFORM_TABLE_CULL) uniform int u_cull;
 layout(location = UNIFORM_TABLE_CULL_PLANES) uniform vec4 u_cull_planes[5];
+layout(location = UNIFORM_TABLE_PLANAR_TOLERANCE) uniform double u_planar_tolerance; // kPlanarTolerance
 
 const uint V = uint(VERTICES_PER_CELL);
 
@@ -79,12 +85,52 @@ void barycentric_rows(dvec3 a, dvec3 b, dvec3 c, uint t) {
     barycentrics[2u * t + 1u] = vec4(vec3(r2), float(-dot(r2, a)));
 }
 
+// A face's plane for the planar test and layout: unit normal along b−a × c−a (a triangle) or
+// along the cross product of the diagonals (a quad), through the mean of its corners; zero
+// for a face with no area.
+dvec4 face_plane(dvec3 p[8], ivec4 face) {
+    bool quad = face.w >= 0;
+    dvec3 n = quad ? cross(p[face.z] - p[face.x], p[face.w] - p[face.y]) : cross(p[face.y] - p[face.x], p[face.z] - p[face.x]);
+    dvec3 centre = quad ? 0.25lf * (p[face.x] + p[face.y] + p[face.z] + p[face.w]) : (p[face.x] + p[face.y] + p[face.z]) / 3.0lf;
+    double len = length(n);
+    double scale = max(length(p[face.z] - p[face.x]), length(p[quad ? face.w : face.z] - p[face.y]));
+    if (!(len > 1e-12lf * scale * scale && len > 0.0lf)) return dvec4(0.0lf);
+    dvec3 u = n / len;
+    return dvec4(u, dot(u, centre));
+}
+
+// Whether the cell (its n points p, `type`) is planar (gl_interface.hpp: kPlanarTolerance).
+bool planar_cell(dvec3 p[8], uint n, int type) {
+    dvec3 lo = p[0], hi = p[0];
+    for (uint k = 1u; k < n; ++k) lo = min(lo, p[k]), hi = max(hi, p[k]);
+    double slack = u_planar_tolerance * length(hi - lo);
+    bool planar = true;
+    for (int f = 0; f < kCellFaceCount[type]; ++f) {
+        ivec4 face = kCellFaces[kCellFaceFirst[type] + f];
+        dvec4 plane = face_plane(p, face);
+        planar = planar && plane.xyz != dvec3(0.0lf);
+        for (uint k = 0u; k < n; ++k) {
+            double d = dot(plane.xyz, p[k]) - plane.w;
+            bool on_face = int(k) == face.x || int(k) == face.y || int(k) == face.z || int(k) == face.w;
+            planar = planar && (on_face ? abs(d) : d) <= slack;
+        }
+    }
+    return planar && u_planar_tolerance >= 0.0lf; // a negative tolerance: nothing is planar
+}
+
+void write_elements(uint t, uvec3 e) {
+    elements[3u * t] = e.x;
+    elements[3u * t + 1u] = e.y;
+    elements[3u * t + 2u] = e.z;
+}
+
 void main() {
     uint c = gl_GlobalInvocationID.x;
     if (c >= u_cells) return;
     uint offset = texelFetch(u_cell_offsets, int(c)).x;
     uint n = texelFetch(u_cell_offsets, int(c) + 1).x - offset;
-    uint first = texelFetch(u_cell_words, int(c)).x >> uint(WORD_COUNT_BITS);
+    uint word = cell_words[c];
+    uint first = word >> uint(WORD_FIRST_SHIFT);
     int type = cell_type_of(n);
 
     uint ids[8];
@@ -111,20 +157,53 @@ void main() {
     dvec3 p[8];
     double s[8];
     for (uint k = 0u; k < n; ++k) p[k] = dvec3(q[k].xyz), s[k] = double(q[k].w);
+    // Tetrahedra-only meshes keep the triangle layout (the same for a tetrahedron) and no bit.
+    bool planar = V == 8u && changed && planar_cell(p, n, type);
     vec4 tet = type == 0 && changed ? tetrahedron_function(p, s) : vec4(0.0);
+    if (V == 8u && changed) cell_words[c] = planar ? word | (1u << uint(WORD_PLANAR_BIT)) : word & ~(1u << uint(WORD_PLANAR_BIT));
 
     uint t = first;
-    int face0 = kCellFaceFirst[type];
-    for (int f = 0; f < kCellFaceCount[type]; ++f) {
+    int face0 = kCellFaceFirst[type], faces = kCellFaceCount[type];
+    for (int f = 0; f < faces; ++f) {
         ivec4 face = kCellFaces[face0 + f];
         int halves = face.w < 0 ? 1 : 2;
         int k0 = 0; // a quad's fan starts at its smallest vertex: its diagonal is the only one through it
         if (halves == 2)
             for (int i = 1; i < 4; ++i)
                 if (ids[face[i]] < ids[face[k0]]) k0 = i;
+        if (planar) {
+            // Face f's plane and first half's function in slot f, a quad's diagonal plane and
+            // second half's function in slot F + (its index among the quads).
+            uint slot = first + uint(f), second = first + uint(faces + kFaceQuad[face0 + f]);
+            dvec4 plane = face_plane(p, face);
+            planes[slot] = vec4(plane);
+            if (halves == 2) {
+                dvec3 a = p[face[k0]], b = p[face[(k0 + 1) % 4]], cc = p[face[(k0 + 2) % 4]], d = p[face[(k0 + 3) % 4]];
+                // The diagonal plane, b's side positive, told by whichever of b and d lies farther
+                // from it: a half with no area (an edge collapsed, as at a fog layer's rim) has
+                // its corner on the diagonal, where the sign is rounding's.
+                dvec3 m = cross(plane.xyz, cc - a);
+                double side_b = dot(m, b - a), side_d = dot(m, d - a);
+                m = (abs(side_b) >= abs(side_d) ? side_b < 0.0lf : side_d > 0.0lf) ? -m : m;
+                double len = length(m);
+                m = len > 0.0lf ? m / len : m;
+                planes[second] = vec4(vec3(m), float(dot(m, a)));
+                // A half with next to no area (below 1e-6 of the other's) takes the other's
+                // function: its points lie on the diagonal, where the two agree.
+                vec4 f1 = triangle_function(a, s[face[k0]], b, s[face[(k0 + 1) % 4]], cc, s[face[(k0 + 2) % 4]]);
+                vec4 f2 = triangle_function(a, s[face[k0]], cc, s[face[(k0 + 2) % 4]], d, s[face[(k0 + 3) % 4]]);
+                double area1 = length(cross(b - a, cc - a)), area2 = length(cross(cc - a, d - a));
+                functions[slot] = area1 < 1e-6lf * area2 ? f2 : f1;
+                functions[second] = area2 < 1e-6lf * area1 ? f1 : f2;
+                barycentrics[2u * second] = barycentrics[2u * second + 1u] = vec4(0.0);
+            } else {
+                functions[slot] = type == 0 ? tet : triangle_function(p[face.x], s[face.x], p[face.y], s[face.y], p[face.z], s[face.z]);
+            }
+            barycentrics[2u * slot] = barycentrics[2u * slot + 1u] = vec4(0.0);
+        }
         for (int h = 0; h < halves; ++h, ++t) {
             ivec3 tri = halves == 1 ? face.xyz : ivec3(face[k0], face[(k0 + 1 + h) % 4], face[(k0 + 2 + h) % 4]);
-            if (changed) {
+            if (changed && !planar) {
                 dvec3 a = p[tri.x], b = p[tri.y], cc = p[tri.z];
                 planes[t] = triangle_plane(a, b, cc);
                 functions[t] = type == 0 ? tet : triangle_function(a, s[tri.x], b, s[tri.y], cc, s[tri.z]);
@@ -133,11 +212,7 @@ void main() {
                     else barycentric_rows(a, b, cc, t);
                 }
             }
-            uint base = c * V;
-            uvec3 e = visible ? uvec3(base) + uvec3(tri) : uvec3(base);
-            elements[3u * t] = e.x;
-            elements[3u * t + 1u] = e.y;
-            elements[3u * t + 2u] = e.z;
+            write_elements(t, visible ? uvec3(c * V) + uvec3(tri) : uvec3(c * V));
         }
     }
 }

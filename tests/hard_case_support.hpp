@@ -1,7 +1,7 @@
 // Shared by the hard-case and property tests (test_hard_cases*.cpp, test_property*.cpp): every
-// render path behind one call, each path's stated tolerance in ONE place, the closed-form
-// image of a box whose scalar is linear in space, and the comparison that measures, prints and
-// writes actual/expected/diff PNGs on failure.
+// render path behind one call, each path's stated tolerance (from the one table,
+// testing/verify/tolerances.cpp), the closed-form image of a box whose scalar is linear in space,
+// and the comparison (tests/image_check.hpp: measured, printed, PNGs written on failure).
 //
 // Paths: the CPU scan-line renderer (fx::ScanlineRenderer) and the GPU flavours of
 // fx::CellRenderer — pcp (classic, 8-bit), pcp-exact, pcp-exact with fog, mip, absorption
@@ -37,92 +37,29 @@
 #include "scanline/synthetic_meshes.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl_fixture.hpp"
+#include "image_check.hpp"
 #include "cellfx_names.hpp"
 
 namespace hard_case {
 
-enum class Path { Scanline, Pcp, PcpExact, PcpExactFog, Mip, Absorption, AbsorptionExact };
-inline const std::vector<Path> kAllPaths = {Path::Scanline, Path::Pcp,        Path::PcpExact,       Path::PcpExactFog,
-                                            Path::Mip,      Path::Absorption, Path::AbsorptionExact};
+using Path = verify::Path;
+inline const std::vector<Path> kAllPaths(std::begin(verify::kPaths), std::end(verify::kPaths));
 // The paths whose model absorbs (exp(−τ) appears): for extinction-only cases.
 inline const std::vector<Path> kAbsorbingPaths = {Path::Scanline, Path::PcpExactFog, Path::Absorption,
                                                   Path::AbsorptionExact};
 
-inline const char* name(Path p) {
-    switch (p) {
-    case Path::Scanline: return "scanline";
-    case Path::Pcp: return "pcp";
-    case Path::PcpExact: return "pcp-exact";
-    case Path::PcpExactFog: return "pcp-exact-fog";
-    case Path::Mip: return "mip";
-    case Path::Absorption: return "absorption";
-    case Path::AbsorptionExact: return "absorption-exact";
-    }
-    return "?";
-}
+inline const char* name(Path p) { return verify::path_name(p); }
+using verify::model_of;
 
-// The optical model each path computes (and the reference it is compared with). The scan-line
-// renderer is run with the model of the case (Scene::scanline_model).
-inline fx::OpticalModel model_of(Path p, fx::OpticalModel scanline_model) {
-    switch (p) {
-    case Path::Pcp:
-    case Path::PcpExact: return fx::OpticalModel::Emission;
-    case Path::Mip: return fx::OpticalModel::Maximum;
-    case Path::Scanline: return scanline_model;
-    default: return fx::OpticalModel::EmissionAbsorption;
-    }
-}
-
-// ---- stated tolerances ------------------------------------------------------------------------
-// Per channel, as fractions of the reference's peak (its largest value in any channel), with a
-// fraction of pixels allowed beyond the per-pixel value (pixel centres within rounding of a
-// silhouette, which a rasteriser and the reference may assign differently) and a bound on the
-// mean |difference| over all channels of all pixels.
-struct Tolerance {
-    double pixel = 0.0;          // per channel: pixel·peak + pixel_absolute + relative·|expected|
-    double pixel_absolute = 0.0;
-    double relative = 0.0;
-    double beyond = 0.01;        // fraction of pixels allowed beyond the per-pixel bound
-    double mean = 0.0;           // mean |difference| over all channels: mean·peak + mean_absolute
-    double mean_absolute = 0.0;
-    double pixel_bound(double peak, double expected) const {
-        return pixel * peak + pixel_absolute + relative * std::abs(expected);
-    }
-    double mean_bound(double peak) const { return mean * peak + mean_absolute; }
-};
-
+// Each path's stated tolerance (testing/verify/tolerances.cpp, the one place they are written
+// down, each with its derivation), and that every value lies in [0, 1].
 // `cells_on_ray`: the most cells a pixel's ray crosses (classic pcp's rounding adds up per cell).
-inline Tolerance stated_tolerance(Path p, int cells_on_ray) {
-    const double n = std::max(cells_on_ray, 1);
-    switch (p) {
-    case Path::Scanline:
-        // Double-precision segments; the float image (~6e-8) and float screen positions
-        // (test_scanline.cpp: 1e-4 against closed forms).
-        return {1e-4, 0.0, 0.0, 0.01, 1e-5, 0.0};
-    case Path::PcpExact:
-    case Path::PcpExactFog:
-    case Path::Mip:
-        // Both sides integrate exactly: float32 on the GPU against double, the 4096-sample
-        // emission table, silhouette pixels (test_pcp_scanline.cpp, docs/render_paths.md).
-        return {0.005, 0.0, 0.0, 0.01, 0.0005, 0.0};
-    case Path::Pcp:
-        // 8 bits: each cell on a ray adds its light rounded to 1/255 and its α difference is
-        // quantised to 1/255 of its Δd; κ is the trapezoid rule over each cell (≤ ~15% of a
-        // pixel where a kink of the transfer function falls inside a cell): per pixel
-        // 0.5·N/255 + 15% of the pixel; mean: N roundings of ±0.5/255 add to ~0.29·√N/255,
-        // + 2% of peak (test_pcp_scanline.cpp).
-        return {0.0, 0.5 * n / 255.0, 0.15, 0.01, 0.02, 0.3 * std::sqrt(n) / 255.0};
-    case Path::Absorption:
-        // §II's approximations: thickness and table coordinates linear on screen over each
-        // polygon (off by a cell's perspective foreshortening), colour C/α interpolated
-        // between exact vertex values (test_absorption_scanline.cpp, docs/absorption.md).
-        return {0.04, 0.0, 0.0, 0.01, 0.004, 0.0};
-    case Path::AbsorptionExact:
-        // The pre-integration table (128² scalars × 64 lengths, trilinear), float32 against
-        // double, silhouette pixels (test_absorption_scanline.cpp, docs/absorption.md).
-        return {0.005, 0.0, 0.0, 0.01, 0.0005, 0.0};
-    }
-    return {};
+inline verify::Tolerance stated_tolerance(Path p, int cells_on_ray) {
+    verify::Case c;
+    c.cells_on_ray = cells_on_ray;
+    verify::Tolerance t = verify::stated(p, c);
+    t.unit_range = true;
+    return t;
 }
 
 // ---- a case -----------------------------------------------------------------------------------
@@ -252,75 +189,11 @@ inline fx::CellMesh box_mesh(const LinearBox& box, std::array<std::uint32_t, 3> 
 
 // ---- comparison -------------------------------------------------------------------------------
 
-struct Measured {
-    double peak = 0.0, max_delta = 0.0, mean_delta = 0.0, beyond = 0.0;
-    bool finite = true, in_unit_range = true;
-    int worst_x = -1, worst_y = -1;
-    glm::vec4 worst_actual{0.0f}, worst_expected{0.0f};
-};
-
-inline Measured measure(const fx::Image& actual, const fx::Image& expected, const Tolerance& tol) {
-    REQUIRE(actual.width == expected.width);
-    REQUIRE(actual.height == expected.height);
-    Measured m;
-    for (const glm::vec4& e : expected.pixels) m.peak = std::max({m.peak, double(e.r), double(e.g), double(e.b), double(e.a)});
-    double sum = 0.0;
-    std::size_t beyond = 0;
-    for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
-        bool ok = true;
-        double worst = 0.0;
-        for (int c = 0; c < 4; ++c) {
-            const double a = actual.pixels[i][c], e = expected.pixels[i][c];
-            if (!std::isfinite(a)) m.finite = false;
-            if (!(a >= 0.0 && a <= 1.0)) m.in_unit_range = false;
-            const double d = std::isfinite(a) ? std::abs(a - e) : INFINITY;
-            sum += std::isfinite(d) ? d : 1e30;
-            worst = std::max(worst, d);
-            if (!(d <= tol.pixel_bound(m.peak, e))) ok = false;
-        }
-        if (!(worst <= m.max_delta)) {
-            m.max_delta = worst;
-            m.worst_x = int(i % std::size_t(actual.width)), m.worst_y = int(i / std::size_t(actual.width));
-            m.worst_actual = actual.pixels[i], m.worst_expected = expected.pixels[i];
-        }
-        beyond += !ok;
-    }
-    m.mean_delta = sum / (4.0 * double(std::max<std::size_t>(actual.pixels.size(), 1)));
-    m.beyond = double(beyond) / double(std::max<std::size_t>(actual.pixels.size(), 1));
-    return m;
-}
-
-inline bool within(const Measured& m, const Tolerance& tol) {
-    return m.finite && m.beyond <= tol.beyond && m.mean_delta <= tol.mean_bound(m.peak);
-}
-
-inline void report(const std::string& name, Path p, const Measured& m) {
-    WARN(name << " [" << hard_case::name(p) << "]: peak " << m.peak << ", max delta " << m.max_delta << " ("
-              << (m.peak > 0.0 ? 100.0 * m.max_delta / m.peak : 0.0) << "% of peak) at (" << m.worst_x << ", "
-              << m.worst_y << ") actual " << m.worst_actual.r << " " << m.worst_actual.g << " " << m.worst_actual.b
-              << " " << m.worst_actual.a << " expected " << m.worst_expected.r << " " << m.worst_expected.g << " "
-              << m.worst_expected.b << " " << m.worst_expected.a << "; mean " << m.mean_delta << "; beyond "
-              << 100.0 * m.beyond << "% of pixels");
-}
-
-// Measures `actual` against `expected`, prints the figures, CHECKs the stated tolerance (and,
-// with `unit_range`, that every value lies in [0, 1]); on failure writes the PNGs.
-inline Measured check(const std::string& name, Path p, const fx::Image& actual, const fx::Image& expected,
-                      const Tolerance& tol, bool unit_range = true) {
-    const Measured m = measure(actual, expected, tol);
-    report(name, p, m);
-    const bool ok = within(m, tol) && (!unit_range || m.in_unit_range);
-    if (!ok) {
-        const std::string prefix = fx_test::write_failure_images(name + "_" + hard_case::name(p), actual, expected,
-                                                                 float(10.0 / std::max(m.peak, 1e-30)));
-        INFO(name << " [" << hard_case::name(p) << "]: images " << prefix);
-        CHECK(ok);
-    }
-    CHECK(m.finite);
-    CHECK(m.beyond <= tol.beyond);
-    CHECK(m.mean_delta <= tol.mean_bound(m.peak));
-    if (unit_range) CHECK(m.in_unit_range);
-    return m;
+// Checks `actual` against `expected` with the path's tolerance (fx_test::check_frame: printed,
+// checked, the PNGs written on failure).
+inline verify::Difference check(const std::string& name, Path p, const fx::Image& actual, const fx::Image& expected,
+                                const verify::Tolerance& tol) {
+    return fx_test::check_frame(name + "_" + hard_case::name(p), actual, expected, tol);
 }
 
 // A path that cannot meet its stated tolerance in a case (docs/accuracy.md gives the measured
@@ -331,6 +204,15 @@ struct Limit {
     const char* why;
 };
 
+// What every path guarantees where it cannot meet its stated tolerance: every value finite and
+// in [0, 1] (any value in [0, 1] lies within 1 of any other, so the per-pixel bound is 1).
+inline verify::Tolerance guaranteed(const std::string& why) {
+    verify::Tolerance t;
+    t.pixel.absolute = 1.0, t.mean.absolute = 1.0, t.unit_range = true;
+    t.why = "beyond its stated tolerance: " + why + "; finite and in [0, 1]";
+    return t;
+}
+
 // Renders every path in `paths` and checks each against the closed form of `box` with its
 // stated tolerance (or, for a path in `limits`, what it guarantees). The reference must show
 // something (peak > 0), or the case tests nothing.
@@ -339,19 +221,14 @@ inline void check_closed_form(const std::string& name, const Scene& s, const Lin
     for (Path p : paths) {
         const fx::Image expected = closed_form(s, box, p);
         const fx::Image actual = render(s, p);
-        const Tolerance tol = stated_tolerance(p, s.cells_on_ray);
+        const verify::Tolerance tol = stated_tolerance(p, s.cells_on_ray);
         INFO(name << " [" << hard_case::name(p) << "]");
         const auto limit = std::find_if(limits.begin(), limits.end(), [p](const Limit& l) { return l.path == p; });
         if (limit == limits.end()) {
-            const Measured m = check(name, p, actual, expected, tol);
-            REQUIRE(m.peak > 0.0);
+            check(name, p, actual, expected, tol);
             continue;
         }
-        const Measured m = measure(actual, expected, tol);
-        REQUIRE(m.peak > 0.0);
-        report(name + " (beyond its stated tolerance: " + limit->why + ")", p, m);
-        CHECK(m.finite);
-        CHECK(m.in_unit_range);
+        fx_test::check_frame(name + "_" + hard_case::name(p), actual, expected, guaranteed(limit->why));
     }
 }
 

@@ -1,5 +1,5 @@
 // Helpers for the scan-line renderer tests: closed-form ray geometry, meshes built from
-// boxes, and image comparison that writes actual/expected/diff PNGs on failure.
+// boxes, and the closed-form comparison (image_check.hpp).
 #pragma once
 
 #include <algorithm>
@@ -16,7 +16,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
 #include "scanline/synthetic_meshes.hpp"
-#include "test_paths.hpp"
+#include "image_check.hpp"
 #include "cellfx_names.hpp"
 
 namespace scanline_test {
@@ -80,56 +80,15 @@ inline fx::Image expected_image(int w, int h, const std::function<glm::vec4(int,
     return img;
 }
 
-struct Difference {
-    double max = 0.0;  // largest per-channel difference, at pixel (x, y)
-    double mean = 0.0; // mean per-channel difference over all pixels and channels
-    int x = -1, y = -1;
-    glm::vec4 actual{0.0f}, expected{0.0f};
-};
-
-// Largest and mean per-channel difference; above `tolerance` (or a mean above
-// `mean_tolerance`) writes NAME_actual/expected/diff.png (the diff scaled so that the
-// tolerance is 1/8 of full scale).
-inline Difference compare(const fx::Image& actual, const fx::Image& expected, double tolerance,
-                          const std::string& name, double mean_tolerance = kInf) {
-    Difference d;
-    double total = 0.0;
-    fx::Image diff(actual.width, actual.height, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
-    for (int y = 0; y < actual.height; ++y) {
-        for (int x = 0; x < actual.width; ++x) {
-            const glm::vec4 a = actual.at(x, y), e = expected.at(x, y);
-            double m = 0.0;
-            for (int c = 0; c < 4; ++c) {
-                const double diff_c = std::abs(double(a[c]) - double(e[c]));
-                m = std::max(m, diff_c);
-                total += diff_c;
-            }
-            if (!(m <= d.max)) d = Difference{m, 0.0, x, y, a, e};
-            const float v = static_cast<float>(std::min(1.0, m / (8.0 * tolerance)));
-            diff.at(x, y) = glm::vec4(v, v, v, 1.0f);
-        }
-    }
-    d.mean = actual.pixels.empty() ? 0.0 : total / (4.0 * static_cast<double>(actual.pixels.size()));
-    if (!(d.max <= tolerance) || !(d.mean <= mean_tolerance)) {
-        auto opaque = [](fx::Image img) {
-            for (glm::vec4& p : img.pixels) p.a = 1.0f;
-            return img;
-        };
-        fx::write_png(opaque(actual), fx_test::output_path(name + "_actual.png"));
-        fx::write_png(opaque(expected), fx_test::output_path(name + "_expected.png"));
-        fx::write_png(diff, fx_test::output_path(name + "_diff.png"));
-    }
-    return d;
+// Every channel within `tolerance` of the expected image (absolute), none beyond it, and the
+// mean |difference| within `mean_tolerance` (fx_test::check_image: printed, checked, the PNGs
+// written on failure). `why` says where the bound comes from.
+inline verify::Difference check_close(const fx::Image& actual, const fx::Image& expected, double tolerance,
+                                      const std::string& name, double mean_tolerance = kInf,
+                                      const std::string& why = "closed form: double segments, the float image") {
+    verify::Tolerance t = verify::same_picture(tolerance, why);
+    t.mean.absolute = mean_tolerance;
+    return fx_test::check_image(name, actual, expected, t);
 }
 
 } // namespace scanline_test
-
-// CHECKs that two images agree to `tol`, naming the worst pixel.
-#define CHECK_IMAGES_CLOSE(ACTUAL_, EXPECTED_, TOL_, NAME_)                                                        \
-    do {                                                                                                           \
-        const scanline_test::Difference d_ = scanline_test::compare((ACTUAL_), (EXPECTED_), (TOL_), (NAME_));      \
-        INFO((NAME_) << ": worst pixel (" << d_.x << ", " << d_.y << ") actual " << d_.actual.r << " "             \
-                     << d_.actual.g << " " << d_.actual.b << " " << d_.actual.a << ", expected " << d_.expected.r   \
-                     << " " << d_.expected.g << " " << d_.expected.b << " " << d_.expected.a);                      \
-        CHECK(d_.max <= (TOL_));                                                                                   \
-    } while (0)

@@ -187,6 +187,21 @@ TEST_CASE("convert writes the mesh cellfx reads: PLOT3D with one field, and the 
     for (const fx::CellType t : hexes.cell_types) REQUIRE(t == fx::CellType::Hexahedron);
     CHECK(fx::validate_mesh(hexes).empty());
 
+    // The regular box: 5k x 4k x 4k hexahedra, k = round(cbrt(2000 / 80)) = 3; cut into 5 or 6
+    // tetrahedra each, k = round(cbrt(2000 / 5.5 / 80)) = 2.
+    REQUIRE(run_cli("convert --synthetic box-hex --cells 2000 --out '" + out + "/box_hex.vtk'", out + "/log.txt") == 0);
+    const fx::CellMesh box = fx::read_mesh(out + "/box_hex.vtk");
+    CHECK(box.cell_count() == 15 * 12 * 12);
+    for (const fx::CellType t : box.cell_types) REQUIRE(t == fx::CellType::Hexahedron);
+    CHECK(box.find_scalar("temperature"));
+    CHECK(fx::validate_mesh(box).empty());
+    REQUIRE(run_cli("convert --synthetic box-tet --cells 2000 --out '" + out + "/box_tet.vtk'", out + "/log.txt") == 0);
+    const fx::CellMesh box_tets = fx::read_mesh(out + "/box_tet.vtk");
+    CHECK(box_tets.cell_count() >= 5 * 10 * 8 * 8);
+    CHECK(box_tets.cell_count() <= 6 * 10 * 8 * 8);
+    for (const fx::CellType t : box_tets.cell_types) REQUIRE(t == fx::CellType::Tetra);
+    CHECK(fx::validate_mesh(box_tets).empty());
+
     // Bad input: a clear error naming what is wrong.
     CHECK(run_cli("convert '" + xyz + "' '" + q + "' --scalar nope --out '" + out + "/x.vtk'", out + "/log.txt") == 1);
     CHECK(read_text(out + "/log.txt").find("no field 'nope' (the mesh has: density") != std::string::npos);

@@ -186,14 +186,11 @@ TEST_CASE("every GPU path draws off-axis tiles that assemble into the frame draw
             }
         }
         const fx::Image tiled = target.read();
-        float peak = 0.0f;
-        for (const glm::vec4& p : whole.pixels) peak = std::max({peak, p.r, p.g, p.b, p.a});
-        const fx_test::ImageDifference d = fx_test::compare_images(tiled, whole);
-        INFO(fx::render_path_name(path) << ": peak " << peak << ", max difference " << d.max_delta / peak
-                                        << " of peak, mean " << d.mean_delta / peak);
-        const bool ok = peak > 0.05f && d.max_delta <= 3e-4f * peak && d.mean_delta <= 1e-6 * peak;
-        if (!ok) INFO("images: " << fx_test::write_failure_images(std::string("tiles_") + fx::render_path_name(path), tiled, whole));
-        CHECK(ok);
+        verify::Tolerance same = verify::same_picture(0.0, "the same rays, formed in float from each tile's corner");
+        same.pixel.of_peak = 3e-4, same.mean.of_peak = 1e-6;
+        const verify::Difference d =
+            fx_test::check_frame(std::string("tiles_") + fx::render_path_name(path), tiled, whole, same);
+        CHECK(d.peak > 0.05);
     }
     fx_test::require_no_gl_error();
 }

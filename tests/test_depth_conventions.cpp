@@ -95,9 +95,7 @@ TEST_CASE("Every common depth set-up hides the fire behind the game's box, exact
                 // The box pixels are the game's alone: the normalized depth puts it in front of the
                 // whole fire, in every convention (no trace of fire, not one bit).
                 CHECK(box_error(frame) == 0.0f);
-                const effects_test::FrameCheck e =
-                    effects_test::check_frame("depth_convention", frame, expected, fx::RenderPath::PcpExact, 20);
-                CHECK(e.finite);
+                effects_test::check_frame("depth_convention", frame, expected, fx::RenderPath::PcpExact, 20);
             }
         }
     }
@@ -127,11 +125,8 @@ TEST_CASE("With cellfx's terrain, reversed-Z multisampled depth gives the standa
     const fx::Image reversed_ms = frame(reversed_z.projection, GL_DEPTH_COMPONENT32F, 4);
     CHECK(box_error(standard) == 0.0f);
     CHECK(box_error(reversed_ms) == 0.0f);
-    const fx_test::ImageDifference d = fx_test::compare_images(reversed_ms, standard);
-    if (d.max_delta > 1e-6f)
-        INFO("images: " << fx_test::write_failure_images("depth_terrain_reversed", reversed_ms, standard, 10.0f));
-    // Bound 1e-6: the same draws, the box's normalized depth differing by float rounding only.
-    CHECK(d.max_delta <= 1e-6f);
+    fx_test::check_image("depth_terrain_reversed", reversed_ms, standard,
+                         verify::same_picture(1e-6, "the same draws, the box's normalized depth differing by float rounding only"));
     std::size_t terrain_pixels = 0;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) terrain_pixels += !in_box(x, y) && glm::length(standard.at(x, y) - kSky) > 0.01f;
@@ -200,9 +195,7 @@ TEST_CASE("A y-up game sees the frame a z-up game sees, and attaches effects in 
     const fx::Image z_frame = frame(z_up, scene.camera), y_frame = frame(y_up, cam_y);
     // The rotation between the frames is exact in floating point (a permutation and a sign):
     // the same bits.
-    const fx_test::ImageDifference d = fx_test::compare_images(y_frame, z_frame);
-    if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("world_up_y", y_frame, z_frame, 10.0f));
-    CHECK(d.max_delta == 0.0f);
+    fx_test::check_image("world_up_y", y_frame, z_frame, verify::same_picture(0.0, "an exact rotation: the same bits"));
     CHECK(y_up.effect<fx::Campfire>("fire")->transform() == z_up.effect<fx::Campfire>("fire")->transform());
     const fx::Camera back = y_up.scene_camera();
     CHECK(back.eye == cam_y.eye);
@@ -210,4 +203,58 @@ TEST_CASE("A y-up game sees the frame a z-up game sees, and attaches effects in 
     // And the z-up frame, the fire moved by its parent, against the scan-line reference.
     CHECK(box_error(z_frame) == 0.0f);
     effects_test::check_frame("world_up_z", z_frame, expected_frame(z_up, scene.camera), fx::RenderPath::PcpExact, 20);
+}
+
+TEST_CASE("A game's reversed-Z state that target.depth does not declare is refused, saying what to set",
+          "[gl][embedding][depth]") {
+    fx_test::gl_context();
+    const terrain::Scene scene = fire_scene(false);
+    const fx::Camera cam = scene.camera;
+    cellfx::Module fx;
+    fx.init(cellfx::Config::from_scene(scene, kW, kH));
+    const fx::Image expected = [&] {
+        fx.update(0.0, cam);
+        return expected_frame(fx, cam);
+    }();
+    const GameProjection reversed_z = conventions(cam)[2].projection;
+    REQUIRE(reversed_z.convention.reversed);
+
+    // A game drawing reversed-Z (GL_GREATER, GL_ZERO_TO_ONE, cleared to 0), its state left set,
+    // that forgets target.depth.reversed: read as standard depth its depth would hide almost the
+    // whole fire. Refused before any GL state changes, and the game's frame is untouched.
+    GameFrame game(GL_DEPTH_COMPONENT32F, false);
+    game.draw_geometry(cam, reversed_z, kBoxDepth);
+    const fx::Image before = game.read();
+    fx.update(0.0, cam);
+    const cellfx::Target forgot{game.framebuffer, {0, 0, kW, kH}, game.depth};
+    CHECK_THROWS_WITH(fx.render(forgot), Catch::Contains("the game draws reversed-Z (glDepthFunc GL_GREATER, "
+                                                         "glClipControl GL_ZERO_TO_ONE)") &&
+                                             Catch::Contains("set target.depth.reversed = true"));
+    const cellfx::Status s = fx.try_render(forgot);
+    CHECK_FALSE(s);
+    CHECK_THAT(s.message(), Catch::Contains("target.depth.reversed"));
+    GLint func = 0, clip = 0;
+    glGetIntegerv(GL_DEPTH_FUNC, &func);
+    glGetIntegerv(GL_CLIP_DEPTH_MODE, &clip);
+    CHECK(func == GL_GREATER); // the game's state as it was
+    CHECK(clip == GL_ZERO_TO_ONE);
+    fx_test::check_image("depth_refused_untouched", game.read(), before, verify::same_picture(0.0, "nothing drawn"));
+
+    // Declared, the same state draws the standard frame.
+    fx.render({game.framebuffer, {0, 0, kW, kH}, game.depth, reversed_z.convention});
+    restore_gl_defaults();
+    fx_test::require_no_gl_error();
+    const fx::Image frame = game.read();
+    CHECK(box_error(frame) == 0.0f);
+    effects_test::check_frame("depth_declared", frame, expected, fx::RenderPath::PcpExact, 20);
+
+    // A reversed-Z game that resets its depth test and clip control to GL's defaults before
+    // render(): the state tells nothing, the declared convention is taken, the frame is right.
+    game.draw_geometry(cam, reversed_z, kBoxDepth);
+    restore_gl_defaults();
+    fx.update(0.0, cam);
+    fx.render({game.framebuffer, {0, 0, kW, kH}, game.depth, reversed_z.convention});
+    fx_test::require_no_gl_error();
+    CHECK(box_error(game.read()) == 0.0f);
+    effects_test::check_frame("depth_declared_reset", game.read(), expected, fx::RenderPath::PcpExact, 20);
 }

@@ -430,15 +430,16 @@ TEST_CASE("Campfire frames match the scan-line reference", "[gl][effects][campfi
     for (fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::Mip, fx::RenderPath::Pcp})
         effects_test::effect_vs_scanline("effect_campfire", fire, tf, cam, path, 20);
     // Sorted emission–absorption, the fire dense enough to dim its own far side (the core's
-    // optical depth ~1). Classic absorption per pixel 15% of peak (measured 14.7%; mean and
-    // pixel-fraction limits as stated): the noise makes the temperature cross up to four of
-    // fire.json's breakpoints inside one cell, σ rising ×1.5 to ×5 from one to the next; the path
-    // slices cells at breakpoints (§V) but its per-vertex colour and α (§II) are linear across
-    // each slice — the same effect docs/absorption.md measures at ~15% for steps.
+    // optical depth ~1). Both with their stated tolerances (testing/verify/tolerances.cpp). The
+    // noise makes the temperature cross up to four of fire.json's breakpoints inside one cell, σ
+    // rising ×1.5 to ×5 from one to the next; classic absorption slices cells at breakpoints (§V)
+    // but its per-vertex colour and α (§II) are linear across each slice, so where the exact
+    // picture bends that steeply within a pixel's neighbourhood (measured: 1.6% of the pixels,
+    // worst 13.7% of peak) a pixel is bounded by the reference's values around it, not by the 4%;
+    // away from such bends none lies beyond 4% (1% allowed).
     const fx::TransferFunction dense = fire_tf(0.15);
     effects_test::effect_vs_scanline("effect_campfire", fire, dense, cam, fx::RenderPath::AbsorptionExact, 20);
-    effects_test::effect_vs_scanline("effect_campfire", fire, dense, cam, fx::RenderPath::Absorption, 20, false, 96,
-                                     0.15f, 0.15f);
+    effects_test::effect_vs_scanline("effect_campfire", fire, dense, cam, fx::RenderPath::Absorption, 20);
 }
 
 TEST_CASE("Search light frames match the scan-line reference, far from the origin and turned", "[gl][effects][search_light]") {
@@ -515,10 +516,9 @@ TEST_CASE("CellRenderer::set_scalars draws what a renderer made with the new sca
     reused.set_scalars(fire.mesh().scalars[0].values);
     fx::CellRenderer fresh(fire.mesh(), fire.scalar_name(), tf);
     for (fx::RenderPath path : fx::kRenderPaths) {
-        INFO(fx::render_path_name(path));
-        const fx_test::ImageDifference d = fx_test::compare_images(reused.render_to_image(cam, 64, 64, path),
-                                                                   fresh.render_to_image(cam, 64, 64, path));
-        CHECK(d.max_delta == 0.0f);
+        fx_test::check_image(std::string("set_scalars_") + fx::render_path_name(path),
+                             reused.render_to_image(cam, 64, 64, path), fresh.render_to_image(cam, 64, 64, path),
+                             verify::same_picture(0.0, "the same mesh and scalars: the same bits"));
     }
     fx_test::require_no_gl_error();
     CHECK_THROWS_WITH(reused.set_scalars({1.0f, 2.0f}), Catch::Contains("set_scalars got 2 values"));

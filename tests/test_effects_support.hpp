@@ -2,8 +2,6 @@
 // the scan-line reference), frame comparison with the render paths' stated tolerances, cameras.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
 #include <string>
 #include <vector>
 
@@ -17,6 +15,7 @@
 #include "fx/scanline_renderer.hpp"
 #include "fx/transfer_function.hpp"
 #include "gl_fixture.hpp"
+#include "image_check.hpp"
 #include "cellfx_names.hpp"
 
 namespace effects_test {
@@ -47,79 +46,28 @@ inline fx::OpticalModel model_of(fx::RenderPath path, bool fog) {
     return path == fx::RenderPath::Mip ? fx::OpticalModel::Maximum : fx::OpticalModel::Emission;
 }
 
-struct FrameCheck {
-    float peak = 0.0f;       // brightest reference channel
-    float max_delta = 0.0f;
-    double mean_delta = 0.0;
-    double bad_fraction = 0.0; // pixels beyond the per-pixel tolerance
-    bool finite = true;
-};
-
-// Tolerances per path, relative to the reference's brightest channel (`peak`), as in
-// tests/test_pcp_scanline.cpp where they are derived:
-//   pcp-exact, mip: both sides integrate exactly; float32 on the GPU against double on the CPU,
-//     the 4096-entry tables, and pixel centres within rounding of a silhouette, which rasteriser
-//     and reference may assign differently: per pixel 0.5% of peak, ≤ 1% of pixels beyond it,
-//     mean ≤ 0.05% of peak.
-//   pcp (classic, 8-bit): each of the ≤ N cells on a ray rounds its light and its α to 1/255 and
-//     colours the trapezoid rule on κ(s): per pixel 0.5·N/255 + `classic_rel` of the pixel, ≤ 1%
-//     of pixels beyond, mean ≤ 0.3·√N/255 + 2% of peak.
-//   absorption-exact, absorption (sorted, emission–absorption), as docs/absorption.md derives
-//     them: exact — the pre-integration table is trilinear between its samples (~0.1–0.5% of a
-//     segment) plus silhouettes: per pixel 1.5% of peak, mean 0.1%; classic — §II's thickness
-//     and opacity-table approximations and vertex colours: per pixel 4% of peak, mean 0.4%; both
-//     ≤ 1% of pixels beyond.
-// `absorption_pixel` replaces classic absorption's per-pixel 4% where a test says why.
-inline FrameCheck check_frame(const std::string& name, const fx::Image& actual, const fx::Image& expected,
-                              fx::RenderPath path, int cells_on_ray, float classic_rel = 0.15f,
-                              float absorption_pixel = 0.04f) {
-    REQUIRE(actual.width == expected.width);
-    REQUIRE(actual.height == expected.height);
-    FrameCheck e;
-    for (const glm::vec4& p : expected.pixels) e.peak = std::max({e.peak, p.r, p.g, p.b});
-    REQUIRE(e.peak > 0.0f); // the view must show something
-    const bool classic = path == fx::RenderPath::Pcp;
-    float abs_tol = classic ? 0.5f * float(cells_on_ray) / 255.0f : 0.005f * e.peak;
-    const float rel_tol = classic ? classic_rel : 0.0f;
-    double mean_tol = classic ? 0.3 * std::sqrt(double(cells_on_ray)) / 255.0 + 0.02 * e.peak : 0.0005 * e.peak;
-    if (path == fx::RenderPath::AbsorptionExact) abs_tol = 0.015f * e.peak, mean_tol = 0.001 * e.peak;
-    if (path == fx::RenderPath::Absorption) abs_tol = absorption_pixel * e.peak, mean_tol = 0.004 * e.peak;
-    std::size_t bad = 0;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
-        bool ok = true;
-        for (int c = 0; c < 4; ++c) {
-            const float a = actual.pixels[i][c], x = expected.pixels[i][c];
-            if (!std::isfinite(a)) e.finite = false, ok = false;
-            const float d = std::fabs(a - x);
-            e.max_delta = std::max(e.max_delta, std::isfinite(d) ? d : INFINITY);
-            sum += std::isfinite(d) ? d : 1e30;
-            if (!(d <= abs_tol + rel_tol * std::fabs(x))) ok = false;
-        }
-        if (!ok) ++bad;
-    }
-    e.mean_delta = sum / (4.0 * double(actual.pixels.size()));
-    e.bad_fraction = double(bad) / double(actual.pixels.size());
-    WARN(name << " [" << fx::render_path_name(path) << "]: peak " << e.peak << ", max delta " << e.max_delta << " ("
-              << 100.0 * e.max_delta / e.peak << "% of peak), mean " << 100.0 * e.mean_delta / e.peak
-              << "% of peak, pixels beyond tolerance " << 100.0 * e.bad_fraction << "%");
-    const bool ok = e.finite && e.bad_fraction <= 0.01 && e.mean_delta <= mean_tol;
-    if (!ok) {
-        INFO("images: " << fx_test::write_failure_images(name + "_" + fx::render_path_name(path), actual, expected,
-                                                         10.0f / e.peak));
-        CHECK(ok);
-    }
-    CHECK(e.finite);
-    CHECK(e.bad_fraction <= 0.01);
-    CHECK(e.mean_delta <= mean_tol);
-    return e;
+// A frame against the scan-line reference with `path`'s stated tolerance
+// (testing/verify/tolerances.cpp: where each bound comes from); `c` says what the frame holds
+// (the cells on a ray for classic pcp, ...). Returns the measured difference.
+inline verify::Difference check_frame(const std::string& name, const fx::Image& actual, const fx::Image& expected,
+                                      fx::RenderPath path, const verify::Case& c, bool fog = false) {
+    const verify::Path p = verify::path_of(path, fog);
+    verify::Options options;
+    options.clamp_expected = p == verify::Path::Pcp; // classic pcp's 8-bit target holds at most 1
+    return fx_test::check_frame(name + "_" + verify::path_name(p), actual, expected, verify::stated(p, c), options);
+}
+inline verify::Difference check_frame(const std::string& name, const fx::Image& actual, const fx::Image& expected,
+                                      fx::RenderPath path, int cells_on_ray) {
+    verify::Case c;
+    c.cells_on_ray = cells_on_ray;
+    return check_frame(name, actual, expected, path, c);
 }
 
 // The effect as the scene draws it — its local mesh, the camera moved into its frame — against
 // the scan-line reference of the same mesh moved into the world, seen by the world camera.
-inline FrameCheck effect_vs_scanline(const std::string& name, const fx::Effect& effect, const fx::TransferFunction& tf,
-                                     const fx::Camera& camera, fx::RenderPath path, int cells_on_ray, bool fog = false,
-                                     int size = 96, float classic_rel = 0.15f, float absorption_pixel = 0.04f) {
+inline verify::Difference effect_vs_scanline(const std::string& name, const fx::Effect& effect,
+                                             const fx::TransferFunction& tf, const fx::Camera& camera,
+                                             fx::RenderPath path, int cells_on_ray, bool fog = false, int size = 96) {
     fx_test::gl_context();
     const fx::CellMesh world = world_mesh(effect);
     fx::ScanlineOptions so;
@@ -132,7 +80,9 @@ inline FrameCheck effect_vs_scanline(const std::string& name, const fx::Effect& 
     const fx::Image actual =
         renderer.render_to_image(fx::camera_in_frame(camera, effect.transform()), size, size, path, options);
     fx_test::require_no_gl_error();
-    return check_frame(name, actual, expected, path, cells_on_ray, classic_rel, absorption_pixel);
+    verify::Case c;
+    c.cells_on_ray = cells_on_ray;
+    return check_frame(name, actual, expected, path, c, fog);
 }
 
 } // namespace effects_test

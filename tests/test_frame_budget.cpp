@@ -5,12 +5,12 @@
 // (fx_budget_tests), so that the replaced allocator counts nothing else. Mesa's own memory is
 // C's malloc, which is not counted: the point is cellfx's.
 //
-// update() must allocate nothing and start nothing on every scene and path; so must render(),
-// new scalars every frame (campfire, lasers: CellRenderer::set_scalars) and new meshes of
-// similar size every frame (fog and aurora prisms: CellRenderer::set_mesh) included. The rows
-// that still allocate are listed in kRenderAllocates with the reason and reported, not asserted.
-// fx::CellRenderer on its own (every path, tetrahedra and mixed cells, inside and outside the
-// mesh, with and without a scene depth) is held to 0 by the last case.
+// update() and render() must allocate nothing and start nothing on every scene and path: new
+// scalars every frame (campfire, lasers: CellRenderer::set_scalars) and meshes changed every
+// frame (fog and aurora prisms: CellRenderer::update_mesh, whose absorption paths rebuild their
+// sorts' state in place) included. fx::CellRenderer on its own (every path, tetrahedra and mixed
+// cells, inside and outside the mesh, with and without a scene depth) is held to 0 by the last
+// case.
 #include <catch2/catch.hpp>
 
 #include <atomic>
@@ -146,28 +146,6 @@ fx::Camera moving_camera(const terrain::Scene& scene, int frame) {
     return cam;
 }
 
-// Rows whose render() is known to allocate on this branch, and why (reported, not asserted).
-struct Known {
-    const char* scene;
-    const char* path; // nullptr: every path
-    const char* reason;
-};
-constexpr const char* kAbsorptionOnNewMesh =
-    "CellRenderer::set_mesh makes the absorption pass anew for the new prisms: its view-dependent "
-    "subdivision, the visibility sort's per-mesh state (face topology, exterior faces) and its tables";
-const Known kRenderAllocates[] = {
-    {"fog_valley", "absorption", kAbsorptionOnNewMesh},
-    {"fog_valley", "absorption-exact", kAbsorptionOnNewMesh},
-    {"aurora", "absorption", kAbsorptionOnNewMesh},
-    {"aurora", "absorption-exact", kAbsorptionOnNewMesh},
-};
-
-const char* known_reason(const std::string& scene, const std::string& path) {
-    for (const Known& k : kRenderAllocates)
-        if ((!k.scene || scene == k.scene) && (!k.path || path == k.path)) return k.reason;
-    return nullptr;
-}
-
 } // namespace
 
 TEST_CASE("A steady frame with a moving camera allocates nothing and starts no thread", "[gl][budget]") {
@@ -221,15 +199,11 @@ TEST_CASE("A steady frame with a moving camera allocates nothing and starts no t
                           double(update.allocations) / kMeasured, double(render.allocations) / kMeasured,
                           double(update.threads + render.threads) / kMeasured);
             table += row;
-            const char* reason = known_reason(name, path_name);
-            if (reason && (render.allocations > 0 || render.threads > 0)) table += std::string("  known: ") + reason;
             table += "\n";
             CHECK(update.allocations == 0);
             CHECK(update.threads == 0);
-            if (!reason) {
-                CHECK(render.allocations == 0);
-                CHECK(render.threads == 0);
-            }
+            CHECK(render.allocations == 0);
+            CHECK(render.threads == 0);
         }
     }
     WARN(table);

@@ -233,7 +233,9 @@ struct CachingRenderer {
         glScissorIndexed(0, 1, 2, 3, 4);
         glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE); // reversed-Z's depth mode, flipped origin
         glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_GREATER);
+        // (Not GL_GREATER: with GL_ZERO_TO_ONE that is a reversed-Z game's state, which render()
+        // holds against target.depth — test_depth_conventions.cpp.)
+        glDepthFunc(GL_NOTEQUAL);
         glDepthMask(GL_FALSE);
         glClearDepth(0.0);
         glClearColor(0.7f, 0.1f, 0.6f, 0.5f);
@@ -368,9 +370,7 @@ TEST_CASE("render() leaves every GL state of a caching renderer as it was, and d
                 const fx::Image calm = module_frame(fx, multisample, false);
                 const fx::Image hostile = module_frame(fx, multisample, true);
                 // The same GL commands under cellfx's own defaults: the same pixels, exactly.
-                const fx_test::ImageDifference d = fx_test::compare_images(hostile, calm);
-                if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("gl_state_frame", hostile, calm, 10.0f));
-                CHECK(d.max_delta == 0.0f);
+                fx_test::check_image("gl_state_frame", hostile, calm, verify::same_picture(0.0, "the same GL commands"));
                 std::size_t lit = 0;
                 for (const glm::vec4& p : calm.pixels) lit += p.r > 0.3f;
                 CHECK(lit > 50); // the fire is there
@@ -406,9 +406,7 @@ TEST_CASE("The one medium (froxel grid, exact lists) and the reduced resolutions
             REQUIRE(fx.stats().medium.pixels > 0);
             REQUIRE(fx.stats().medium.method == method);
             const fx::Image hostile = module_frame(fx, false, true);
-            const fx_test::ImageDifference d = fx_test::compare_images(hostile, calm);
-            if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images("gl_state_medium", hostile, calm, 10.0f));
-            CHECK(d.max_delta == 0.0f);
+            fx_test::check_image("gl_state_medium", hostile, calm, verify::same_picture(0.0, "the same GL commands"));
         }
 }
 

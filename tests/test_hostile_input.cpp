@@ -32,6 +32,7 @@
 #include "fx/resource_limits.hpp"
 #include "fx/visibility_sort.hpp"
 #include "fx/vtk_legacy.hpp"
+#include "image_check.hpp"
 #include "mesh_builders.hpp"
 #include "process_runner.hpp"
 #include "terrain/scene.hpp"
@@ -100,18 +101,12 @@ void require_accepted(const RunResult& r) {
 }
 
 // The largest per-channel difference of two PFM renders (both must exist and match in size);
-// infinite where either holds a NaN or Inf the other does not match exactly.
+// infinite where the first holds a NaN or Inf.
 double max_difference(const std::string& a, const std::string& b) {
-    const fx::Image x = fx::read_pfm(a), y = fx::read_pfm(b);
-    REQUIRE(x.width == y.width);
-    REQUIRE(x.height == y.height);
-    double worst = 0.0;
-    for (std::size_t i = 0; i < x.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double d = std::abs(double(x.pixels[i][c]) - double(y.pixels[i][c]));
-            worst = std::isfinite(d) ? std::max(worst, d) : x.pixels[i][c] == y.pixels[i][c] ? worst : HUGE_VAL;
-        }
-    return worst;
+    verify::Options rgb;
+    rgb.channels = 3;
+    const verify::Difference d = verify::measure(fx::read_pfm(a), fx::read_pfm(b), rgb);
+    return d.nonfinite ? HUGE_VAL : d.worst.delta;
 }
 
 // Mean of all channels: a render that shows nothing is 0.

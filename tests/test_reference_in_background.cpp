@@ -46,11 +46,10 @@ TEST_CASE("A captured frame's reference is the renderer's, and stays so while th
     fx::Image from_copy;
     std::thread worker([&] { from_copy = terrain::render_scene_reference(input, kW, kH, 1); });
     worker.join();
-    const fx_test::ImageDifference same = fx_test::compare_images(from_copy, direct);
-    CHECK(same.max_delta == 0.0f);
-    const fx_test::ImageDifference changed = fx_test::compare_images(moved, direct);
-    INFO("the renderer's own reference after the change differs by " << changed.max_delta);
-    CHECK(changed.max_delta > 0.01f);
+    fx_test::check_image("reference_from_copy", from_copy, direct, verify::same_picture(0.0, "the same volumes, the same renderer: to the bit"));
+    const verify::Difference changed = verify::measure(moved, direct);
+    INFO("the renderer's own reference after the change differs by " << changed.worst.delta);
+    CHECK(changed.worst.delta > 0.01);
 }
 
 TEST_CASE("Scan-line progress counts every line of every pass, and a cancel stops the render", "[gl][scene][reference]") {

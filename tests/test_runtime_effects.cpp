@@ -47,9 +47,7 @@ fx::Image frame(cellfx::Module& fx) {
 }
 
 void check_same(const std::string& name, const fx::Image& actual, const fx::Image& expected) {
-    const fx_test::ImageDifference d = fx_test::compare_images(actual, expected);
-    if (d.max_delta != 0.0f) INFO("images: " << fx_test::write_failure_images(name, actual, expected, 10.0f));
-    CHECK(d.max_delta == 0.0f);
+    fx_test::check_image(name, actual, expected, verify::same_picture(0.0, "the same effects in the same state"));
 }
 
 std::size_t lit_pixels(const fx::Image& image) {
@@ -200,7 +198,7 @@ TEST_CASE("A reload parses first, swaps on success, and keeps the clock, parent 
     reference.set_path("fire", fx::RenderPath::Mip);
     const fx::Image reloaded = frame(fx);
     check_same("reload_fixed", reloaded, frame(reference));
-    CHECK(fx_test::compare_images(reloaded, running).max_delta > 0.01f); // and it is the new fire
+    CHECK(verify::measure(reloaded, running).worst.delta > 0.01); // and it is the new fire
 }
 
 TEST_CASE("Config::parallel_for runs the effects' simulation on the host's job system, frames unchanged",
@@ -236,4 +234,98 @@ TEST_CASE("Config::parallel_for runs the effects' simulation on the host's job s
     CHECK(jobs.calls == 2);
     CHECK(jobs.tasks == 4); // the fire and the search light, every frame
     CHECK(host_jobs.stats().find("patrol")->status != terrain::EffectStatus::OutOfView);
+}
+
+namespace {
+
+// What `f` throws, "" when it does not throw.
+template <class F> std::string thrown(F&& f) {
+    try {
+        f();
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// A refused try_ form: a failed Status carrying the throwing form's message, which names `what`.
+void check_refused(const cellfx::Status& s, const std::string& thrown_message, const std::string& what) {
+    INFO("expected a refusal naming '" << what << "'");
+    CHECK_FALSE(s);
+    CHECK_FALSE(s.ok());
+    CHECK(s.message() == thrown_message);
+    CHECK_THAT(s.message(), Catch::Contains(what));
+}
+
+} // namespace
+
+TEST_CASE("Every try_ form does what its throwing form does, and refuses what it refuses with its message",
+          "[gl][embedding][runtime]") {
+    fx_test::gl_context();
+    // Before init(): every call is refused, naming what to do first.
+    {
+        cellfx::Module idle;
+        check_refused(idle.try_update(0.0, fx::Camera{}), thrown([&] { idle.update(0.0, fx::Camera{}); }), "init");
+        check_refused(idle.try_set_time(1.0), thrown([&] { idle.set_time(1.0); }), "init");
+        check_refused(idle.try_set_terrain_drawn(false), thrown([&] { idle.set_terrain_drawn(false); }), "init");
+        CHECK_THAT(thrown([&] { idle.renderer(); }), Catch::Contains("init"));
+    }
+
+    // The same changes through the throwing forms (`thrower`) and the try_ forms (`tried`): the
+    // same frames, bit for bit, and each change visible.
+    const terrain::Scene scene = fire_scene(true);
+    cellfx::Module thrower = started(scene), tried = started(scene);
+    const fx::Image first = frame(thrower);
+    check_same("try_start", frame(tried), first);
+
+    fx::CampfireParams tall = std::get<fx::CampfireParams>(scene.effects[0].params);
+    tall.height = 2.0;
+    const fx::TransferFunction green = fx::TransferFunction::constant({0.2, 1.0, 0.3}, 0.8);
+    const glm::dmat4 moved = glm::translate(glm::dmat4(1.0), glm::dvec3(0.2, 0.1, 0.0));
+    thrower.set_time(1.5);
+    thrower.set_params("fire", tall);
+    thrower.set_transfer_function("fire", green);
+    thrower.set_absorb("fire", true);
+    thrower.set_parent_transform("fire", moved);
+    thrower.set_terrain_drawn(false);
+    CHECK(tried.try_set_time(1.5));
+    CHECK(tried.try_set_params("fire", tall));
+    CHECK(tried.try_set_transfer_function("fire", green));
+    CHECK(tried.try_set_absorb("fire", true));
+    CHECK(tried.try_set_parent_transform("fire", moved));
+    CHECK(tried.try_set_terrain_drawn(false));
+    CHECK(tried.time() == 1.5);
+    CHECK(std::get<fx::CampfireParams>(tried.scene().effects[0].params).height == 2.0);
+    CHECK(tried.scene().effects[0].absorb);
+    CHECK(tried.effect<fx::Campfire>("fire")->parent_transform() == moved);
+    CHECK_FALSE(tried.terrain_drawn());
+    const fx::Image changed = frame(tried);
+    check_same("try_changed", changed, frame(thrower));
+    CHECK(verify::measure(changed, first).worst.delta > 0.05); // the changes show
+    CHECK(lit_pixels(changed) > 100);                          // the fire, without the terrain
+
+    // Refusals: the same message as the throwing form, and nothing changed.
+    fx::CampfireParams broken = tall;
+    broken.base_radius = -1.0;
+    check_refused(tried.try_set_time(NAN), thrown([&] { thrower.set_time(NAN); }), "time");
+    check_refused(tried.try_set_params("fire", broken), thrown([&] { thrower.set_params("fire", broken); }), "base_radius");
+    check_refused(tried.try_set_transfer_function("smoke", green),
+                  thrown([&] { thrower.set_transfer_function("smoke", green); }), "smoke");
+    check_refused(tried.try_set_absorb("smoke", true), thrown([&] { thrower.set_absorb("smoke", true); }), "smoke");
+    check_refused(tried.try_set_parent_transform("smoke", moved),
+                  thrown([&] { thrower.set_parent_transform("smoke", moved); }), "smoke");
+    CHECK(tried.time() == 1.5);
+    check_same("try_refused", frame(tried), changed);
+
+    // enabled() follows set_enabled; renderer(), the escape hatch, holds the module's effects.
+    CHECK(tried.enabled("fire"));
+    CHECK(tried.try_set_enabled("fire", false));
+    CHECK_FALSE(tried.enabled("fire"));
+    CHECK_THAT(thrown([&] { tried.enabled("smoke"); }), Catch::Contains("smoke"));
+    CHECK(tried.renderer().find_effect("fire") == static_cast<fx::Effect*>(tried.effect<fx::Campfire>("fire")));
+    CHECK(tried.renderer().find_effect("smoke") == nullptr);
+
+    // A scene without terrain refuses to draw one.
+    cellfx::Module bare = started(fire_scene(false));
+    check_refused(bare.try_set_terrain_drawn(true), thrown([&] { bare.set_terrain_drawn(true); }), "terrain");
 }

@@ -122,12 +122,18 @@ fx::Image quantized(const fx::Image& image) {
     return q;
 }
 
+// The colour channels (the frames are opaque).
+verify::Options rgb() {
+    verify::Options o;
+    o.channels = 3;
+    return o;
+}
+
 // Pixels that differ by more than `threshold` in some colour channel.
 std::size_t differing_pixels(const fx::Image& a, const fx::Image& b, float threshold) {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i)
-        if (glm::any(glm::greaterThan(glm::abs(glm::vec3(a.pixels[i]) - glm::vec3(b.pixels[i])), glm::vec3(threshold)))) ++n;
-    return n;
+    verify::Tolerance t;
+    t.pixel.absolute = threshold;
+    return verify::measure(a, b, t, rgb()).beyond;
 }
 
 // The frame shows something: at least 2% of its pixels are not the background colour.
@@ -158,11 +164,9 @@ fx::Image scene_reference(const std::string& scene_name, bool drone,
 // to the (8-bit rounded) background, the reference over the unrounded background in float: 1/255
 // for the background's rounding, 0.5/255 for the final rounding. Mean: a tenth of a step.
 void check_same_frame(const fx::Image& frame, const fx::Image& expected, const std::string& label) {
-    const fx_test::ImageDifference d = fx_test::compare_images(frame, expected);
-    WARN(label << " vs SceneRenderer: max " << d.max_delta * 255.0f << "/255, mean " << d.mean_delta * 255.0 << "/255");
-    const bool ok = d.max_delta <= 1.5f / 255.0f && d.mean_delta <= 0.1 / 255.0;
-    if (!ok) INFO("images: " << fx_test::write_failure_images(label, frame, expected, 20.0f));
-    CHECK(ok);
+    verify::Tolerance t = verify::same_picture(1.5 / 255.0, "the background's 8-bit rounding and the final rounding");
+    t.mean.absolute = 0.1 / 255.0;
+    fx_test::check_image(label, frame, expected, t, rgb());
 }
 
 // `scene_name`: the sample's scene file (content/scenes/<scene_name>.json), if not its own name.
@@ -213,20 +217,13 @@ TEST_CASE("sample fem_viewer runs headless and matches the scan-line reference",
     fx::composite_over(reference, glm::round(background * 255.0f) / 255.0f); // over the 8-bit cleared frame
     const fx::Image expected = quantized(reference);
 
-    // absorption-exact against the scan-line reference (tests/test_absorption_scanline.cpp):
-    // per pixel 1.5% of peak, mean 0.1% of peak, ≤ 1% of pixels beyond (silhouette pixels the
-    // rasteriser and the reference assign differently); plus one 8-bit step for the window's
-    // format (the composite over the 8-bit background, then rounding).
-    float peak = 0.0f;
-    for (const glm::vec4& p : expected.pixels) peak = std::max({peak, p.r, p.g, p.b});
-    const float per_pixel = 0.015f * peak + 1.0f / 255.0f;
-    const std::size_t beyond = differing_pixels(frame, expected, per_pixel);
-    const fx_test::ImageDifference d = fx_test::compare_images(frame, expected);
-    WARN("fem_viewer vs scan-line: peak " << peak << ", max " << d.max_delta * 255.0f << "/255, mean " << d.mean_delta * 255.0 << "/255, beyond "
-                 << beyond << " of " << frame.pixels.size());
-    const bool ok = beyond <= frame.pixels.size() / 100 && d.mean_delta <= 0.001 * peak + 0.5 / 255.0;
-    if (!ok) INFO("images: " << fx_test::write_failure_images("sample_fem_viewer", frame, expected, 20.0f));
-    CHECK(ok);
+    // absorption-exact's stated tolerance against the scan-line reference
+    // (testing/verify/tolerances.cpp), plus one 8-bit step per pixel for the window's format (the
+    // composite over the 8-bit background, then rounding) and half a step on the mean.
+    verify::Tolerance t = verify::stated(verify::Path::AbsorptionExact);
+    t.pixel.absolute += 1.0 / 255.0, t.mean.absolute += 0.5 / 255.0;
+    t.why += "; the 8-bit window: one step";
+    fx_test::check_frame("sample_fem_viewer", frame, expected, t, rgb());
 
     const std::size_t changed = differing_pixels(frame, read_frame(dir, kFrames - 1), 1.5f / 255.0f);
     INFO(changed << " pixels changed (the camera orbits)");
@@ -308,11 +305,9 @@ TEST_CASE("sample campfire in a GLFW window equals its headless frames", "[sampl
     for (int f = 0; f < kFrames; ++f) {
         const fx::Image shot = read_frame(window, f), expected = read_frame(headless, f);
         if (f == 0) require_not_empty(shot, glm::vec3(0.015f, 0.02f, 0.045f));
-        const fx_test::ImageDifference d = fx_test::compare_images(shot, expected);
-        WARN("window vs headless, frame " << f << ": max " << d.max_delta * 255.0f << "/255, mean " << d.mean_delta * 255.0 << "/255");
-        const bool ok = d.max_delta <= 1.0f / 255.0f + 1e-6f && d.mean_delta <= 0.1 / 255.0;
-        if (!ok) INFO("images: " << fx_test::write_failure_images("sample_window_" + std::to_string(f), shot, expected, 20.0f));
-        CHECK(ok);
+        verify::Tolerance t = verify::same_picture(1.0 / 255.0 + 1e-6, "8-bit frames of one driver: one step of rounding");
+        t.mean.absolute = 0.1 / 255.0;
+        fx_test::check_image("sample_window_" + std::to_string(f), shot, expected, t, rgb());
     }
 }
 
@@ -402,9 +397,9 @@ TEST_CASE("sample campfire: the tuned scene it saves renders the same frame in t
     // The sample with the saved scene draws the frames the tuned one drew.
     const std::string reloaded = run_sample("campfire", "reloaded", "--no-overlay --no-props --scene " + file);
     for (int f = 0; f < kFrames; ++f) {
-        const fx_test::ImageDifference d = fx_test::compare_images(read_frame(reloaded, f), read_frame(tuned, f));
-        INFO("frame " << f << ": max " << d.max_delta * 255.0f << "/255");
-        CHECK(d.max_delta == 0.0f); // the same program, scene and GL: the same bytes
+        // The same program, scene and GL: the same bytes.
+        const verify::Tolerance t = verify::same_picture(0.0, "the same program, scene and GL: the same bytes");
+        fx_test::check_image("sample_campfire_reloaded_" + std::to_string(f), read_frame(reloaded, f), read_frame(tuned, f), t, rgb());
     }
     // `cellfx render` reads it too: SceneRenderer's frame of it is the sample's.
     const std::string png = folder + "/render.png";
@@ -529,9 +524,9 @@ TEST_CASE("sample campfire in a GLFW window: a control set, the scene saved and 
     const std::string headless = run_sample("campfire", "window_set_headless",
                                             std::string("--no-overlay --no-panel --save ") + folder + "/headless.json " + kFireSettings);
     for (int f = 0; f < kFrames; ++f) {
-        const fx_test::ImageDifference d = fx_test::compare_images(read_frame(window, f), read_frame(headless, f));
-        INFO("frame " << f << ": max " << d.max_delta * 255.0f << "/255");
-        CHECK(d.max_delta <= 1.0f / 255.0f + 1e-6f); // as the window test above
+        verify::Tolerance t = verify::same_picture(1.0 / 255.0 + 1e-6, "8-bit frames of one driver: one step of rounding");
+        t.mean.absolute = 0.1 / 255.0; // as the window test above
+        fx_test::check_image("sample_window_set_" + std::to_string(f), read_frame(window, f), read_frame(headless, f), t, rgb());
     }
     const auto text = [](const std::string& path) {
         std::ifstream in(path);

@@ -62,7 +62,7 @@ TEST_CASE("slab of constant extinction: I = c(1 - exp(-sigma l)) per pixel, pers
             const auto [t0, t1] = ray_box(ray, lo, hi);
             return absorb(color, sigma, std::max(0.0, t1 - t0));
         });
-        CHECK_IMAGES_CLOSE(img, expected, kClosedFormTolerance, "scanline_slab");
+        check_close(img, expected, kClosedFormTolerance, "scanline_slab");
         CHECK(stats.lost_segments == 0);
     }
 }
@@ -92,7 +92,7 @@ TEST_CASE("one tetrahedron with a linear scalar matches emission_absorption on t
             const glm::dvec3 p0 = ray.origin + t0 * ray.direction, p1 = ray.origin + t1 * ray.direction;
             return to_vec4(fx::emission_absorption(tf, field(p0), field(p1), t1 - t0));
         });
-        CHECK_IMAGES_CLOSE(img, expected, kClosedFormTolerance, "scanline_tet");
+        check_close(img, expected, kClosedFormTolerance, "scanline_tet");
     }
 }
 
@@ -114,7 +114,7 @@ TEST_CASE("emissive cube: emission c*sigma*l and maximum c*sigma", "[scanline]")
         const auto [t0, t1] = ray_box(cam.pixel_ray(x + 0.5, y + 0.5, w, h), lo, hi);
         return glm::vec4(glm::vec3(color * sigma * std::max(0.0, t1 - t0)), 0.0f);
     });
-    CHECK_IMAGES_CLOSE(img, expected, kClosedFormTolerance, "scanline_emission_cube");
+    check_close(img, expected, kClosedFormTolerance, "scanline_emission_cube");
 
     fx::ScanlineOptions maximum;
     maximum.model = fx::OpticalModel::Maximum;
@@ -123,7 +123,7 @@ TEST_CASE("emissive cube: emission c*sigma*l and maximum c*sigma", "[scanline]")
         const auto [t0, t1] = ray_box(cam.pixel_ray(x + 0.5, y + 0.5, w, h), lo, hi);
         return t1 > t0 ? glm::vec4(glm::vec3(color * sigma), 0.0f) : glm::vec4(0.0f);
     });
-    CHECK_IMAGES_CLOSE(mip, mip_expected, kClosedFormTolerance, "scanline_mip_cube");
+    check_close(mip, mip_expected, kClosedFormTolerance, "scanline_mip_cube");
 }
 
 TEST_CASE("two intersecting grids: optical depths and emissions add where they overlap", "[scanline]") {
@@ -171,15 +171,15 @@ TEST_CASE("two intersecting grids: optical depths and emissions add where they o
                              : glm::vec4(glm::vec3(color), static_cast<float>(1.0 - transmittance));
     };
     const fx::Image img = renderer.render(cam, w, h, mesh.scalars[0], tf);
-    CHECK_IMAGES_CLOSE(img,
-                       expected_image(w, h, [&](int x, int y) { return walk(cam.pixel_ray(x + 0.5, y + 0.5, w, h), false); }),
-                       kClosedFormTolerance, "scanline_two_grids");
+    check_close(img,
+                expected_image(w, h, [&](int x, int y) { return walk(cam.pixel_ray(x + 0.5, y + 0.5, w, h), false); }),
+                kClosedFormTolerance, "scanline_two_grids");
     fx::ScanlineOptions emission;
     emission.model = fx::OpticalModel::Emission;
     const fx::Image em = renderer.render(cam, w, h, mesh.scalars[0], tf, emission);
-    CHECK_IMAGES_CLOSE(em,
-                       expected_image(w, h, [&](int x, int y) { return walk(cam.pixel_ray(x + 0.5, y + 0.5, w, h), true); }),
-                       kClosedFormTolerance, "scanline_two_grids_emission");
+    check_close(em,
+                expected_image(w, h, [&](int x, int y) { return walk(cam.pixel_ray(x + 0.5, y + 0.5, w, h), true); }),
+                kClosedFormTolerance, "scanline_two_grids_emission");
     // Maximum intensity: the largest c·σ of any grid the ray passes through (per channel),
     // not of the added media.
     fx::ScanlineOptions maximum;
@@ -196,7 +196,7 @@ TEST_CASE("two intersecting grids: optical depths and emissions add where they o
         return glm::vec4(glm::vec3(m), 0.0f);
     });
     CHECK(both > 100); // many rays see both grids
-    CHECK_IMAGES_CLOSE(mip, mip_expected, kClosedFormTolerance, "scanline_two_grids_mip");
+    check_close(mip, mip_expected, kClosedFormTolerance, "scanline_two_grids_mip");
 }
 
 TEST_CASE("non-convex C-shaped grid: a ray that leaves and re-enters skips the gap", "[scanline]") {
@@ -244,7 +244,7 @@ TEST_CASE("non-convex C-shaped grid: a ray that leaves and re-enters skips the g
             return absorb(color, sigma, l);
         });
         CHECK(reentering > 20); // the view really has rays that leave and re-enter the grid
-        CHECK_IMAGES_CLOSE(img, expected, kClosedFormTolerance, "scanline_c_shape");
+        check_close(img, expected, kClosedFormTolerance, "scanline_c_shape");
     }
 }
 
@@ -278,8 +278,8 @@ TEST_CASE("camera inside the mesh renders from the near plane on, with the scala
                 return to_vec4(fx::emission_absorption(tf, field(ray.origin + a * ray.direction),
                                                        field(ray.origin + t1 * ray.direction), t1 - a));
             });
-            CHECK_IMAGES_CLOSE(img, expected, kClosedFormTolerance,
-                               mesh == &hexes ? "scanline_inside_hex" : "scanline_inside_tet");
+            check_close(img, expected, kClosedFormTolerance,
+                        mesh == &hexes ? "scanline_inside_hex" : "scanline_inside_tet");
         }
     }
 }
@@ -310,7 +310,7 @@ TEST_CASE("clip box: colour only inside it, camera outside and inside the box", 
             return to_vec4(fx::emission_absorption(tf, field(ray.origin + a * ray.direction),
                                                    field(ray.origin + b * ray.direction), b - a));
         });
-        CHECK_IMAGES_CLOSE(img, expected, kClosedFormTolerance, "scanline_clip_box");
+        check_close(img, expected, kClosedFormTolerance, "scanline_clip_box");
     }
 }
 
@@ -347,7 +347,7 @@ TEST_CASE("cells of either winding render alike, flat cells hold nothing, overla
             std::swap_ranges(v, v + 4, v + 4);
         }
         // Only zero-length segments between crossings at one depth may order differently.
-        CHECK_IMAGES_CLOSE(fx::ScanlineRenderer(mixed).render(cam, 40, 32, mixed.scalars[0], tf), reference, 1e-6, "scanline_mixed_winding");
+        check_close(fx::ScanlineRenderer(mixed).render(cam, 40, 32, mixed.scalars[0], tf), reference, 1e-6, "scanline_mixed_winding");
     }
     SECTION("a flat cell through the box changes nothing") {
         fx::CellMesh with_flat = mesh;
@@ -358,8 +358,8 @@ TEST_CASE("cells of either winding render alike, flat cells hold nothing, overla
         }
         const std::uint32_t v[8] = {base, base + 1, base + 3, base + 2, base + 4, base + 5, base + 7, base + 6};
         with_flat.add_cell(fx::CellType::Hexahedron, v);
-        CHECK_IMAGES_CLOSE(fx::ScanlineRenderer(with_flat).render(cam, 40, 32, with_flat.scalars[0], tf), reference, 0.0,
-                           "scanline_flat_cell");
+        check_close(fx::ScanlineRenderer(with_flat).render(cam, 40, 32, with_flat.scalars[0], tf), reference, 0.0,
+                    "scanline_flat_cell");
     }
     SECTION("a duplicate cell is refused when the renderer is built, naming both") {
         fx::CellMesh dup = mesh;
@@ -401,6 +401,6 @@ TEST_CASE("cells of either winding render alike, flat cells hold nothing, overla
         CHECK_THROWS_WITH(renderer.render(down, 64, 4, deep.scalars[0], tf, two),
                           Catch::Contains("scan line") && Catch::Contains("frame-bytes limit"));
         fx::set_resource_limits(saved);
-        CHECK_IMAGES_CLOSE(renderer.render(down, 64, 4, deep.scalars[0], tf, two), before, 0.0, "scanline_after_budget");
+        check_close(renderer.render(down, 64, 4, deep.scalars[0], tf, two), before, 0.0, "scanline_after_budget");
     }
 }

@@ -74,13 +74,8 @@ TEST_CASE("blunt fin (real PLOT3D data) matches the stored regression frame", "[
                 drawn += std::abs(p.r - bg) + std::abs(p.g - bg) + std::abs(p.b - bg) > 0.05f ? 1 : 0;
             }
             CHECK(drawn > static_cast<std::size_t>(kWidth * kHeight / 5));
-            const scanline_test::Difference d =
-                scanline_test::compare(actual, golden, kRegressionTolerance, "scanline_" + name, kRegressionMeanTolerance);
-            INFO(name << ": worst pixel (" << d.x << ", " << d.y << ") actual " << d.actual.r << " " << d.actual.g << " "
-                      << d.actual.b << ", golden " << d.expected.r << " " << d.expected.g << " " << d.expected.b
-                      << "; mean difference " << d.mean);
-            CHECK(d.max <= kRegressionTolerance);
-            CHECK(d.mean <= kRegressionMeanTolerance);
+            scanline_test::check_close(actual, golden, kRegressionTolerance, "scanline_" + name, kRegressionMeanTolerance,
+                                       "the renderer's own earlier frame: float rounding in a changed pipeline");
         }
     }
 }

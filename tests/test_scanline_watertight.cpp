@@ -104,8 +104,8 @@ TEST_CASE("a box split into many hexes or tetrahedra renders like one cell (wate
             double sum = 0.0;
             for (const glm::vec4& p : ref.pixels) sum += p.r;
             CHECK(sum > 10.0);
-            CHECK_IMAGES_CLOSE(a, ref, kWatertightTolerance, "scanline_watertight_hex_" + name);
-            CHECK_IMAGES_CLOSE(b, ref, kWatertightTolerance, "scanline_watertight_tet_" + name);
+            check_close(a, ref, kWatertightTolerance, "scanline_watertight_hex_" + name);
+            check_close(b, ref, kWatertightTolerance, "scanline_watertight_tet_" + name);
         }
     }
 }

@@ -73,8 +73,7 @@ TEST_CASE("Incremental frames draw what a from-scratch build draws, through a fl
         HostState host;
         const int kFrames = 100, kWidth = 128, kHeight = 96;
         int incremental_frames = 0;
-        float worst = 0.0f;
-        double worst_mean = 0.0;
+        double worst = 0.0, worst_mean = 0.0;
         for (int f = 0; f < kFrames; ++f) {
             fx::Camera camera = flight(scene, f);
             int w = kWidth, h = kHeight;
@@ -105,14 +104,14 @@ TEST_CASE("Incremental frames draw what a from-scratch build draws, through a fl
             // float rounding of sums of a few hundred terms per pixel, up to ~5e-5 of a [0, 1]
             // colour. A prism missing, stale or moved, or a density that depends on the cut,
             // shows at 1e-2 and more.
-            const fx_test::ImageDifference d = fx_test::compare_images(drawn, expected);
-            worst = std::max(worst, d.max_delta), worst_mean = std::max(worst_mean, d.mean_delta);
-            if (d.max_delta > 2e-4f || d.mean_delta > 1e-6) {
+            verify::Tolerance same = verify::same_picture(2e-4, "the same cells in another order: float rounding");
+            same.mean.absolute = 1e-6;
+            const verify::Difference d = verify::measure(drawn, expected, same);
+            worst = std::max(worst, d.worst.delta), worst_mean = std::max(worst_mean, d.mean);
+            if (!verify::within(d, same)) {
                 std::ostringstream name;
                 name << "incremental_" << std::string(file).substr(0, std::string(file).find('.')) << "_frame" << f;
-                INFO("images: " << fx_test::write_failure_images(name.str(), drawn, expected, 1000.0f));
-                CHECK(d.max_delta <= 2e-4f);
-                CHECK(d.mean_delta <= 1e-6);
+                fx_test::check_image(name.str(), drawn, expected, same); // fails, naming what broke, with the images
                 break;
             }
         }

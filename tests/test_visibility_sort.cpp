@@ -364,3 +364,42 @@ TEST_CASE("visibility sort rejects vertex indices out of range", "[sort]") {
         }
     }
 }
+
+TEST_CASE("rebuild() gives the orders of a sort made for the new mesh, and a copy keeps the old one", "[sort]") {
+    // A C-shape (non-convex: xmpvo adds exterior edges) replaced by a hollow box and by mixed
+    // cells: another size, other cell types, other boundary faces.
+    const fx::CellMesh first = sort_test::c_shape(24, 3, 2, true);
+    const fx::CellMesh hollow = sort_test::hollow_box(6, 2);
+    const fx::CellMesh mixed = fx_test::mixed_box_with_tets(3);
+    for (SortMethod m : fx::all_sort_methods()) {
+        INFO(fx::sort_method_name(m));
+        fx::VisibilitySort sorter(first, m);
+        const fx::VisibilitySort copy = sorter;
+        for (const fx::CellMesh* mesh : {&hollow, &mixed, &first}) {
+            sorter.rebuild(*mesh);
+            const fx::VisibilitySort fresh(*mesh, m);
+            for (const fx::Camera& cam : sort_test::random_views(*mesh, 4, 81)) {
+                std::vector<std::uint32_t> got, want;
+                sorter.sort(cam, got);
+                fresh.sort(cam, want);
+                CHECK(got == want);
+            }
+        }
+        // The copy was made before the rebuilds: it still sorts the first mesh.
+        const fx::VisibilitySort fresh_first(first, m);
+        for (const fx::Camera& cam : sort_test::random_views(first, 3, 82)) {
+            std::vector<std::uint32_t> got, want;
+            copy.sort(cam, got);
+            fresh_first.sort(cam, want);
+            CHECK(got == want);
+        }
+    }
+    // A bad mesh is refused before anything changes.
+    fx::VisibilitySort sorter(hollow, SortMethod::Xmpvo);
+    fx::CellMesh bad = fx_test::hex_box(2, 1, 1);
+    bad.connectivity[11] = 999;
+    CHECK_THROWS_WITH(sorter.rebuild(bad), Catch::Contains("cell 1: vertex 3 is point 999"));
+    std::vector<std::uint32_t> order;
+    sorter.sort(sort_test::random_views(hollow, 1, 83)[0], order);
+    CHECK(sort_test::is_permutation_of_cells(order, hollow.cell_count()));
+}

@@ -22,7 +22,7 @@ int run_bench(const std::vector<std::string>& args) {
                   "                      --mesh all|grid|jittered|c-shape (all)\n"
                   "  terrain    continuous LOD along a flight (1025², 2049²), pixels changed vs full resolution,\n"
                   "             fog valley fps per path; options: --sizes 1025,2049, --lod-frames N (300),\n"
-                  "             --views N (3), --frames N (5), --skip-lod, --skip-pixels, --skip-fps\n"
+                  "             --views N (3), --frames N (5), --size WxH (1024x768), --skip-lod, --skip-pixels, --skip-fps\n"
                   "  absorption absorption / absorption-exact paths for every sort: blunt fin, ~1M tetrahedra, SPX\n"
                   "             options: --size WxH (256x256), --frames N (5), --cells N (1000000), --sort A,B,\n"
                   "             --scenes spx,blunt-fin,box, --blunt-fin DIR, --spx FILE\n"

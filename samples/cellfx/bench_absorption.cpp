@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -34,6 +35,7 @@
 #include "mesh/tetrahedralize.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -82,29 +84,23 @@ fx::Camera view_of(const fx::CellMesh& mesh, int frame) {
 }
 
 struct FrameError {
-    double max = 0.0, mean = 0.0; // fractions of the reference's peak; mean over covered pixels
+    double max = 0.0, mean = 0.0; // fractions of the reference's peak, over the pixels either covers
     bool finite = true;
     double coverage = 0.0; // fraction of pixels the reference covers (alpha > 1e-3) that the frame covers too
 };
 FrameError frame_error(const fx::Image& actual, const fx::Image& expected) {
-    float peak = 0.0f;
-    for (const glm::vec4& p : expected.pixels) peak = std::max({peak, p.r, p.g, p.b, p.a});
-    FrameError e;
-    double sum = 0.0;
-    std::size_t covered = 0, both = 0, compared = 0;
-    for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
+    std::vector<std::uint8_t> uncovered(actual.pixels.size(), 0); // by neither: left out of the figures
+    std::size_t covered = 0, both = 0;
+    for (std::size_t i = 0; i < actual.pixels.size() && i < expected.pixels.size(); ++i) {
         const bool in_reference = expected.pixels[i].a > 1e-3f, in_frame = actual.pixels[i].a > 1e-3f;
         covered += in_reference, both += in_reference && in_frame;
-        for (int c = 0; c < 4; ++c) {
-            const double d = std::abs(double(actual.pixels[i][c]) - double(expected.pixels[i][c]));
-            e.finite &= std::isfinite(actual.pixels[i][c]);
-            e.max = std::max(e.max, d);
-            if (in_reference || in_frame) sum += d;
-        }
-        compared += in_reference || in_frame;
+        uncovered[i] = !(in_reference || in_frame);
     }
-    e.mean = sum / (4.0 * double(std::max<std::size_t>(compared, 1)));
-    e.max /= std::max(peak, 1e-30f), e.mean /= std::max(peak, 1e-30f);
+    verify::Options options;
+    options.skip = &uncovered;
+    const verify::Difference d = verify::measure(actual, expected, options);
+    FrameError e;
+    e.max = d.of_peak(d.worst.delta), e.mean = d.of_peak(d.mean), e.finite = d.nonfinite == 0;
     e.coverage = covered ? double(both) / double(covered) : 0.0;
     return e;
 }

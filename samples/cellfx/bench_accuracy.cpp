@@ -75,6 +75,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/scene_reference.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -380,38 +381,30 @@ fx::Image box_filter(const fx::Image& big, int factor) {
     return out;
 }
 
-glm::dvec3 displayed(const glm::vec4& p, const glm::dvec3& background) {
-    return glm::dvec3(p.r, p.g, p.b) + (1.0 - double(p.a)) * background;
-}
-
 struct ImageError {
     double rmse = 0.0, max_abs = 0.0, psnr = 0.0;
     bool finite = true;
 };
 
+// The picture a user sees — both frames composited over the scene's background — compared in
+// RGB (1 = white).
 ImageError image_error(const fx::Image& actual, const fx::Image& reference, const glm::dvec3& background) {
+    fx::Image shown = actual, expected = reference;
+    fx::composite_over(shown, glm::vec3(background));
+    fx::composite_over(expected, glm::vec3(background));
+    verify::Options rgb;
+    rgb.channels = 3;
+    const verify::Difference d = verify::measure(shown, expected, rgb);
     ImageError e;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < actual.pixels.size(); ++i) {
-        const glm::vec4& a = actual.pixels[i];
-        if (!std::isfinite(a.r) || !std::isfinite(a.g) || !std::isfinite(a.b) || !std::isfinite(a.a)) {
-            e.finite = false;
-            continue;
-        }
-        const glm::dvec3 d = displayed(a, background) - displayed(reference.pixels[i], background);
-        sum += glm::dot(d, d);
-        e.max_abs = std::max({e.max_abs, std::abs(d.r), std::abs(d.g), std::abs(d.b)});
-    }
-    const double mse = sum / (3.0 * double(std::max<std::size_t>(actual.pixels.size(), 1)));
-    e.rmse = std::sqrt(mse);
-    e.psnr = mse > 0.0 ? 10.0 * std::log10(1.0 / mse) : INFINITY;
+    e.rmse = d.rms, e.max_abs = d.worst.delta, e.psnr = d.psnr(), e.finite = d.nonfinite == 0;
     return e;
 }
 
+// The largest colour value (RGB).
 double peak_of(const fx::Image& img) {
-    double peak = 0.0;
-    for (const glm::vec4& p : img.pixels) peak = std::max({peak, double(p.r), double(p.g), double(p.b)});
-    return peak;
+    verify::Options rgb;
+    rgb.channels = 3;
+    return verify::peak(img, rgb);
 }
 
 // Pixels the reference covers (any channel above 1e-4 of its peak) that the frame leaves at 0.

@@ -62,6 +62,7 @@
 #include "terrain/scene.hpp"
 #include "terrain/scene_reference.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -86,28 +87,6 @@ fx::Camera camera_at(const terrain::Scene& scene, int frame, double dt) {
     return cam;
 }
 
-struct Error {
-    double peak = 0.0, mean = 0.0, max = 0.0;
-    bool finite = true;
-};
-
-Error compare(const fx::Image& a, const fx::Image& ref, bool clamp_to_8bit) {
-    Error e;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double x = a.pixels[i][c];
-            double r = ref.pixels[i][c];
-            if (clamp_to_8bit) r = std::min(r, 1.0);
-            if (!std::isfinite(x)) e.finite = false;
-            e.peak = std::max(e.peak, r);
-            sum += std::fabs(x - r);
-            e.max = std::max(e.max, std::fabs(x - r));
-        }
-    e.mean = sum / (3.0 * double(a.pixels.size()));
-    return e;
-}
-
 struct Row {
     std::string scene, path;
     double fx_scale = 1.0;
@@ -116,7 +95,7 @@ struct Row {
     double ms = 0, cpu = 0, gpu = 0, update = 0, upload = 0, surface = 0, effects = 0, composite = 0;
     double medium_gpu = 0, medium_mb = 0;
     int width = 0, height = 0, frames = 0;
-    Error error;
+    verify::Difference error;
     bool verified = false;
 };
 
@@ -125,7 +104,7 @@ void print_row(const Row& r) {
                 r.scene.c_str(), r.path.c_str(), r.fx_scale, r.medium.c_str(), r.cells, r.noise, r.ms, 1000.0 / r.ms, r.cpu,
                 r.gpu, r.update, r.upload, r.surface, r.effects, r.composite, r.medium_gpu, r.medium_mb);
     if (r.verified)
-        std::printf(" %8.3f %8.2f\n", 100.0 * r.error.mean / r.error.peak, 100.0 * r.error.max / r.error.peak);
+        std::printf(" %8.3f %8.2f\n", 100.0 * r.error.of_peak(r.error.mean), 100.0 * r.error.of_peak(r.error.worst.delta));
     else
         std::printf(" %8s %8s\n", "-", "-");
 }
@@ -153,8 +132,8 @@ BenchJsonRow json_row(const Row& r) {
     j["cells"] = r.cells;
     j["noise_samples"] = r.noise;
     if (r.verified) {
-        j["error_mean_percent"] = 100.0 * r.error.mean / r.error.peak;
-        j["error_max_percent"] = 100.0 * r.error.max / r.error.peak;
+        j["error_mean_percent"] = 100.0 * r.error.of_peak(r.error.mean);
+        j["error_max_percent"] = 100.0 * r.error.of_peak(r.error.worst.delta);
     }
     return j;
 }
@@ -343,19 +322,26 @@ int bench_effects(const std::vector<std::string>& args) {
                 // two sorted paths draw the same, every volume absorbing).
                 const fx::RenderPath model = path == fx::RenderPath::Absorption ? fx::RenderPath::AbsorptionExact : path;
                 if (!references.count(model)) references[model] = terrain::render_scene_reference(renderer, last_camera, w, h);
-                row.error = compare(alone, references[model], path == fx::RenderPath::Pcp);
-                row.verified = true;
                 // Exact paths: the scan-line figures of the frame tests (≤ 0.05% of peak on average);
                 // here a generous 1% so only a wrong picture fails. The classic paths (pcp's 8-bit
                 // passes, absorption's per-cell vertex optics), and frames at a reduced
                 // resolution or through the froxel grid (their detail blurred over a few pixels,
-                // docs/accuracy.md): 10%.
+                // docs/accuracy.md): 10%. No pixel further off than the reference's peak. Classic
+                // pcp against the reference clamped to its 8-bit target's range.
                 const bool classic = path == fx::RenderPath::Pcp || path == fx::RenderPath::Absorption;
                 const bool approximate = classic || scale < 1.0 || row.medium == "froxel";
-                const double bound = approximate ? 0.10 : 0.01;
-                if (!row.error.finite || !(row.error.peak > 0.0) || row.error.mean > bound * row.error.peak)
-                    throw fx::Error("bench effects: " + name + " [" + row.path + "]: the effects differ from the scan-line reference (mean " +
-                                    std::to_string(100.0 * row.error.mean / std::max(row.error.peak, 1e-30)) + "% of peak)");
+                verify::Tolerance tol;
+                tol.pixel.of_peak = 1.0, tol.mean.of_peak = approximate ? 0.10 : 0.01;
+                tol.why = approximate ? "approximate path or resolution" : "exact path";
+                verify::Options options;
+                options.channels = 3, options.clamp_expected = path == fx::RenderPath::Pcp;
+                row.error = verify::measure(alone, references[model], tol, options);
+                row.verified = true;
+                const std::string broken = verify::failures(row.error, tol);
+                if (!broken.empty() || !(row.error.peak > 0.0))
+                    throw fx::Error("bench effects: " + name + " [" + row.path +
+                                    "]: the effects differ from the scan-line reference: " +
+                                    (broken.empty() ? "the reference is blank" : broken));
             }
             print_row(row);
             rows.push_back(row);

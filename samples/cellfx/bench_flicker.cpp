@@ -17,6 +17,7 @@
 //          off), --json FILE (a row per scale).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@
 #include "options.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -86,16 +88,20 @@ Flight fly(const terrain::Scene& scene, double scale, int frames, double start, 
         for (bool e : edges) on += e;
         flight.edge_fraction += double(on) / double(edges.size()) / frames;
         if (f > 0) {
-            double edge_sum = 0.0, other_sum = 0.0;
-            std::size_t edge_n = 0, other_n = 0;
+            // Mean |change| in RGB over the pixels on a depth edge in either frame, and off them.
+            std::vector<std::uint8_t> skip_off_edge(frame.pixels.size()), skip_on_edge(frame.pixels.size());
             for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
-                const glm::vec4 d = frame.pixels[i] - previous.pixels[i];
-                const double change = (std::abs(d.r) + std::abs(d.g) + std::abs(d.b)) / 3.0;
-                if (edges[i] || previous_edges[i]) edge_sum += change, ++edge_n;
-                else other_sum += change, ++other_n;
+                skip_on_edge[i] = edges[i] || previous_edges[i];
+                skip_off_edge[i] = !skip_on_edge[i];
             }
-            flight.edge.push_back(edge_n ? edge_sum / double(edge_n) : 0.0);
-            flight.other.push_back(other_n ? other_sum / double(other_n) : 0.0);
+            verify::Options o;
+            o.channels = 3;
+            o.skip = &skip_off_edge;
+            const verify::Difference edge = verify::measure(frame, previous, o);
+            o.skip = &skip_on_edge;
+            const verify::Difference other = verify::measure(frame, previous, o);
+            flight.edge.push_back(edge.compared ? edge.mean : 0.0);
+            flight.other.push_back(other.compared ? other.mean : 0.0);
         }
         for (const glm::vec4& p : frame.pixels)
             if (!std::isfinite(p.r + p.g + p.b)) throw fx::Error("bench flicker: a frame at scale " + std::to_string(scale) + " is not finite");

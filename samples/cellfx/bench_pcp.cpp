@@ -29,6 +29,7 @@
 #include "fx/mesh_io.hpp"
 #include "scanline/synthetic_meshes.hpp"
 #include "options.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
@@ -46,25 +47,15 @@ fx::CellMesh hex_grid(int n) {
     return mesh;
 }
 
-struct Verified {
-    double peak = 0.0, mean_abs = 0.0, max_abs = 0.0;
-    bool finite = true;
-};
+verify::Options rgb() {
+    verify::Options o;
+    o.channels = 3;
+    return o;
+}
 
-Verified compare(const fx::Image& a, const fx::Image& reference) {
-    Verified v;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double x = a.pixels[i][c], r = reference.pixels[i][c];
-            if (!std::isfinite(x)) v.finite = false;
-            v.peak = std::max(v.peak, r);
-            const double d = std::fabs(x - r);
-            sum += d;
-            v.max_abs = std::max(v.max_abs, d);
-        }
-    v.mean_abs = sum / (3.0 * double(a.pixels.size()));
-    return v;
+// The frame against `reference` (RGB): finite, its mean and worst difference.
+verify::Difference difference(const fx::Image& image, const fx::Image& reference) {
+    return verify::measure(image, reference, rgb());
 }
 
 void run_mesh(const std::string& name, const fx::CellMesh& mesh, const std::vector<int>& sizes, int repeat,
@@ -103,23 +94,20 @@ void run_mesh(const std::string& name, const fx::CellMesh& mesh, const std::vect
             if (path == fx::RenderPath::PcpExact) {
                 exact_image = image;
                 exact_ms = ms;
-                const Verified v = compare(image, image);
-                if (!v.finite || !(v.peak > 0.0)) throw fx::Error("bench pcp: pcp-exact frame is empty or not finite");
+                const verify::Difference v = difference(image, image);
+                if (v.nonfinite || !(v.peak > 0.0)) throw fx::Error("bench pcp: pcp-exact frame is empty or not finite");
                 check << "reference (peak " << v.peak << ")";
             } else {
-                const Verified v = compare(image, exact_image);
-                if (!v.finite) throw fx::Error(std::string("bench pcp: ") + fx::render_path_name(path) + " frame is not finite");
+                const verify::Difference v = difference(image, exact_image);
+                if (v.nonfinite) throw fx::Error(std::string("bench pcp: ") + fx::render_path_name(path) + " frame is not finite");
                 if (path == fx::RenderPath::Pcp) {
                     // Its error is the measurement, not a failure (faint cells round to 0 in
                     // 8 bits); only an empty frame is.
-                    double peak = 0.0;
-                    for (const glm::vec4& p : image.pixels) peak = std::max({peak, double(p.r), double(p.g), double(p.b)});
-                    if (!(peak > 0.0)) throw fx::Error("bench pcp: classic frame is empty");
-                    check << "mean |err| " << v.mean_abs << " (" << 100.0 * v.mean_abs / v.peak << "% of peak), max "
-                          << v.max_abs << "; classic/exact time " << ms / exact_ms;
+                    if (!(verify::peak(image, rgb()) > 0.0)) throw fx::Error("bench pcp: classic frame is empty");
+                    check << "mean |err| " << v.mean << " (" << 100.0 * v.of_peak(v.mean) << "% of peak), max "
+                          << v.worst.delta << "; classic/exact time " << ms / exact_ms;
                 } else {
-                    double peak = 0.0;
-                    for (const glm::vec4& p : image.pixels) peak = std::max({peak, double(p.r), double(p.g), double(p.b)});
+                    const double peak = verify::peak(image, rgb());
                     if (!(peak > 0.0)) throw fx::Error("bench pcp: mip frame is empty");
                     check << "non-empty (max " << peak << ")";
                 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <vector>
 
 namespace cellfx_cli {
@@ -11,6 +12,15 @@ using Clock = std::chrono::steady_clock;
 
 inline double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// CPU time of every thread of the process so far, in ms: cellfx's, its job pool's and the GL
+// driver's (on Mesa's llvmpipe the rasteriser threads too). What a frame cost the machine, which
+// other work on a shared machine inflates far less than it inflates wall time.
+inline double process_cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
 }
 
 // The median of the samples (the mean of the middle two for an even count); 0 for none.

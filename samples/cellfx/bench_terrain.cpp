@@ -7,10 +7,10 @@
 //      several screen-space error bounds, against the full-resolution triangle count; nodes
 //      re-examined per frame (the incremental update's work) and a rebuild from the root for
 //      comparison; geomorphed vertices per second.
-//   2. Pixels changed: the terrain surface at 1024x768 rendered from the LOD and from the full-
+//   2. Pixels changed: the terrain surface at 1024x768 (--size) rendered from the LOD and from the full-
 //      resolution mesh, the fraction of pixels whose 8-bit colour differs (Lindstrom et al.'s
 //      measure), with the polygon reduction.
-//   3. The fog valley (content/scenes/fog_valley.json) at 1024x768: milliseconds and frames per
+//   3. The fog valley (content/scenes/fog_valley.json) at 1024x768 (--size): milliseconds and frames per
 //      second for each render path along a short camera move, verified after timing.
 // The paper figures (libMini ~20 M geomorphed vertices/s on 2004 hardware; Lindstrom et al. 100x
 // fewer polygons at < 5% pixels changed; Roettger & Ertl ~25 Hz PCP / > 50 Hz MIP fog at
@@ -31,12 +31,12 @@
 #include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"
+#include "verify/image_difference.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_cli {
 namespace {
 
-constexpr int kWidth = 1024, kHeight = 768;
 constexpr double kFov = 60.0;
 constexpr double kSpacing = 10.0; // metres between samples
 
@@ -84,7 +84,7 @@ struct LodRow {
     double morphed_per_s, output_vertices_per_s;
 };
 
-void bench_lod(int size, const std::vector<double>& bounds, int frames) {
+void bench_lod(int size, const std::vector<double>& bounds, int frames, int width, int height) {
     auto t = Clock::now();
     const terrain::HeightField ground = mountains(size);
     const double build_field_ms = ms_since(t);
@@ -96,7 +96,7 @@ void bench_lod(int size, const std::vector<double>& bounds, int frames) {
                 size, size, ground.extent() / 1000.0, double(ground.max_height() - ground.min_height()),
                 "valley fog up to 200 m", build_field_ms, d2_ms, double(lod.memory_bytes()) / 1e6);
     std::printf("  full resolution: %zu triangles. %d frames, 10 m per frame, 150 m above the ground, %dx%d, %.0f deg fov\n",
-                lod.full_resolution_triangles(), frames, kWidth, kHeight, kFov);
+                lod.full_resolution_triangles(), frames, width, height, kFov);
     std::printf("  %6s %10s %10s %9s %9s %8s %10s %9s %9s %8s %9s %10s %10s\n", "tau px", "tris mean", "tris max",
                 "reduction", "update ms", "max ms", "rebuild ms", "live", "examined", "woken", "morphing", "morph v/s",
                 "mesh v/s");
@@ -108,7 +108,7 @@ void bench_lod(int size, const std::vector<double>& bounds, int frames) {
         terrain::LodMesh mesh;
         for (int f = 0; f < frames; ++f) {
             const fx::Camera cam = flight(ground, f, frames);
-            const terrain::LodStats s = lod.update(terrain::LodView::from_camera(cam, kHeight, tau));
+            const terrain::LodStats s = lod.update(terrain::LodView::from_camera(cam, height, tau));
             if (f == 0) continue; // the first frame builds from the root
             r.triangles_mean += double(s.triangles);
             r.triangles_max = std::max(r.triangles_max, double(s.triangles));
@@ -125,7 +125,7 @@ void bench_lod(int size, const std::vector<double>& bounds, int frames) {
             out_vertices += double(mesh.positions.size());
             if (f % (frames / 6 + 1) == 0) { // a rebuild from the root at the same eye, for comparison
                 terrain::ContinuousLod fresh(ground, fog);
-                rebuilds.push_back(fresh.update(terrain::LodView::from_camera(cam, kHeight, tau)).milliseconds);
+                rebuilds.push_back(fresh.update(terrain::LodView::from_camera(cam, height, tau)).milliseconds);
             }
         }
         const double n = frames - 1;
@@ -146,26 +146,23 @@ void bench_lod(int size, const std::vector<double>& bounds, int frames) {
 // Fraction of pixels whose 8-bit colour differs between two frames by more than `levels`
 // (0: any difference at all).
 double changed_fraction(const fx::Image& a, const fx::Image& b, int levels) {
-    std::size_t changed = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            const int qa = int(std::lround(std::clamp(a.pixels[i][c], 0.0f, 1.0f) * 255.0f));
-            const int qb = int(std::lround(std::clamp(b.pixels[i][c], 0.0f, 1.0f) * 255.0f));
-            if (std::abs(qa - qb) > levels) {
-                ++changed;
-                break;
-            }
-        }
-    }
-    return double(changed) / double(a.pixels.size());
+    auto eight_bit = [](fx::Image image) {
+        for (glm::vec4& p : image.pixels) p = glm::round(glm::clamp(p, 0.0f, 1.0f) * 255.0f) / 255.0f;
+        return image;
+    };
+    verify::Tolerance t;
+    t.pixel.absolute = (levels + 0.5) / 255.0; // whole steps apart: more than `levels` of them
+    verify::Options rgb;
+    rgb.channels = 3;
+    return verify::measure(eight_bit(a), eight_bit(b), t, rgb).share_beyond();
 }
 
-void bench_pixels(int size, const std::vector<double>& bounds, int views, int frames) {
+void bench_pixels(int size, const std::vector<double>& bounds, int views, int frames, int width, int height) {
     terrain::Scene scene;
     scene.ground = mountains(size);
     scene.camera = flight(scene.ground, 0, frames);
     std::printf("\n%dx%d: terrain surface at %dx%d, LOD against full resolution (%d views along the flight)\n", size,
-                size, kWidth, kHeight, views);
+                size, width, height, views);
     std::printf("  %6s %12s %10s %16s %12s %18s\n", "tau px", "triangles", "reduction", "pixels changed", "worst view",
                 "changed > 8/255");
     std::vector<fx::Image> full;
@@ -177,7 +174,7 @@ void bench_pixels(int size, const std::vector<double>& bounds, int views, int fr
         for (int v = 0; v < views; ++v) {
             cams.push_back(flight(scene.ground, v * (frames - 1) / std::max(views - 1, 1), frames));
             terrain::FrameStats s;
-            full.push_back(renderer.render_to_image(cams.back(), kWidth, kHeight, &s));
+            full.push_back(renderer.render_to_image(cams.back(), width, height, &s));
             full_triangles = s.terrain_lod.triangles;
         }
     }
@@ -187,7 +184,7 @@ void bench_pixels(int size, const std::vector<double>& bounds, int views, int fr
         double changed = 0.0, worst = 0.0, triangles = 0.0, clearly = 0.0;
         for (int v = 0; v < views; ++v) {
             terrain::FrameStats s;
-            const fx::Image image = renderer.render_to_image(cams[v], kWidth, kHeight, &s);
+            const fx::Image image = renderer.render_to_image(cams[v], width, height, &s);
             const double c = changed_fraction(image, full[v], 0);
             changed += c / views;
             worst = std::max(worst, c);
@@ -199,11 +196,11 @@ void bench_pixels(int size, const std::vector<double>& bounds, int views, int fr
     }
 }
 
-void bench_fog_valley(int frames) {
+void bench_fog_valley(int frames, int width, int height) {
     const std::string path = std::string(CELLFX_SOURCE_DIR) + "/content/scenes/fog_valley.json";
     const terrain::Scene scene = terrain::load_scene(path);
     std::printf("\nfog valley (%s) at %dx%d: %d frames per path, the camera moving 3 m per frame\n",
-                "content/scenes/fog_valley.json", kWidth, kHeight, frames);
+                "content/scenes/fog_valley.json", width, height, frames);
     std::printf("  %-10s %9s %9s %10s %9s %9s %9s %9s %9s %8s\n", "path", "ms/frame", "fps", "LOD ms", "prisms ms",
                 "upload ms", "draw ms", "triangles", "prisms", "caps");
     // Reference without fog: the fog must change the picture (verified after timing).
@@ -212,12 +209,12 @@ void bench_fog_valley(int frames) {
     fx::Image no_fog;
     {
         terrain::SceneRenderer r(bare);
-        no_fog = r.render_to_image(scene.camera, kWidth, kHeight);
+        no_fog = r.render_to_image(scene.camera, width, height);
     }
     for (fx::RenderPath p : fx::kRenderPaths) {
         terrain::SceneRenderer renderer(scene);
         renderer.set_fog_path(p);
-        renderer.render_to_image(scene.camera, kWidth, kHeight); // warm-up: first-frame LOD build, programs
+        renderer.render_to_image(scene.camera, width, height); // warm-up: first-frame LOD build, programs
         std::vector<double> frame_ms, lod, mesh, upload, draw;
         terrain::FrameStats last;
         fx::Image image;
@@ -225,7 +222,7 @@ void bench_fog_valley(int frames) {
             fx::Camera cam = scene.camera;
             cam.eye.x += 3.0 * (f + 1);
             cam.target.x += 3.0 * (f + 1);
-            image = renderer.render_to_image(cam, kWidth, kHeight, &last);
+            image = renderer.render_to_image(cam, width, height, &last);
             frame_ms.push_back(last.frame_ms);
             lod.push_back(last.lod_ms), mesh.push_back(last.mesh_ms), upload.push_back(last.upload_ms),
                 draw.push_back(last.draw_ms);
@@ -250,11 +247,13 @@ void bench_fog_valley(int frames) {
 
 int bench_terrain(const std::vector<std::string>& args) {
     const ParsedArgs parsed = parse_args(args, {"skip-lod", "skip-pixels", "skip-fps"});
-    require_known(parsed, {"skip-lod", "skip-pixels", "skip-fps", "lod-frames", "frames", "views", "sizes"});
+    require_known(parsed, {"skip-lod", "skip-pixels", "skip-fps", "lod-frames", "frames", "views", "sizes", "size"});
     if (!parsed.positional.empty()) throw fx::Error("bench terrain: unexpected argument '" + parsed.positional[0] + "'");
     const int lod_frames = int_option(parsed, "bench terrain", "lod-frames", 300);
     const int frames = int_option(parsed, "bench terrain", "frames", 5);
     const int views = int_option(parsed, "bench terrain", "views", 3);
+    int width = 1024, height = 768; // the screen the LOD refines for and the frames' size
+    if (parsed.has("size")) parse_size(parsed.get("size"), width, height);
     const std::vector<int> sizes = int_list_option(parsed, "bench terrain", "sizes", "1025,2049");
     for (const int s : sizes)
         if (!terrain::is_lod_size(s)) throw fx::Error("bench terrain --sizes: " + std::to_string(s) + " is not 2^n + 1");
@@ -267,10 +266,10 @@ int bench_terrain(const std::vector<std::string>& args) {
                 "  fewer polygons at < 5%% of pixels changed; Roettger & Ertl ~25 Hz PCP fog (Yukon), > 50 Hz MIP fog\n"
                 "  at 512x384 (2003 hardware). Ours follow, measured in this run.\n");
     if (!parsed.has("skip-lod"))
-        for (int s : sizes) bench_lod(s, bounds, lod_frames);
+        for (int s : sizes) bench_lod(s, bounds, lod_frames, width, height);
     if (!parsed.has("skip-pixels"))
-        for (int s : sizes) bench_pixels(s, bounds, s > 1025 ? 1 : views, lod_frames);
-    if (!parsed.has("skip-fps")) bench_fog_valley(frames);
+        for (int s : sizes) bench_pixels(s, bounds, s > 1025 ? 1 : views, lod_frames, width, height);
+    if (!parsed.has("skip-fps")) bench_fog_valley(frames, width, height);
     std::printf("\n  morph v/s: vertex heights geomorphed per second of LOD update; mesh v/s: LOD mesh vertices\n"
                 "  produced per second of update + extraction. live/examined/woken/morphing: nodes per frame\n"
                 "  (live: the active quadtree; examined: looked at, = woken + morphing + new children).\n");

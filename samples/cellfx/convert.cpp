@@ -1,12 +1,17 @@
 // `cellfx convert`: a mesh cellfx reads (or a synthetic one) written as a VTK legacy file, so
 // that other tools (VTK, ParaView) see exactly the geometry, orientation and field cellfx draws.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "commands.hpp"
 #include "fx/error.hpp"
+#include "mesh/tetrahedralize.hpp"
 #include "scanline/synthetic_meshes.hpp"
 #include "fx/vtk_legacy.hpp"
 #include "mesh_input.hpp"
@@ -24,9 +29,28 @@ constexpr const char* kUsage =
     "  --scalar NAME      write only this point field (VTK readers make it the active scalars);\n"
     "                     default: every field\n"
     "  --synthetic NAME   instead of a file: duct (fx::make_curved_duct cut into tetrahedra, a\n"
-    "                     non-convex FEM-like mesh, field \"temperature\") or duct-hex (the same\n"
-    "                     duct as hexahedra)\n"
+    "                     non-convex FEM-like mesh, field \"temperature\"), duct-hex (the same\n"
+    "                     duct as hexahedra), box-hex (a regular grid of hexahedra filling a\n"
+    "                     1.25 x 1 x 1 box, 5k x 4k x 4k cells, field \"temperature\") or box-tet\n"
+    "                     (the same box's hexahedra cut into tetrahedra, 5 or 6 each)\n"
     "  --cells N          synthetic meshes: about N cells (default 1000000)";
+
+// A regular box of 5k × 4k × 4k hexahedra over [0, 1.25] × [0, 1] × [0, 1] (k from the wanted
+// count, at least 1; 40,960 cells for k = 8), or those hexahedra cut into consistent tetrahedra,
+// with the duct's kind of smooth field: two waves and a hot spot.
+fx::CellMesh make_box(std::size_t cells, bool tetrahedra) {
+    const double hexes = std::max(1.0, double(cells) / (tetrahedra ? 5.5 : 1.0));
+    const std::uint32_t k = std::max<std::uint32_t>(1, std::uint32_t(std::lround(std::cbrt(hexes / 80.0))));
+    fx::CellMesh mesh;
+    fx::append_curvilinear_block(mesh, "box", {5 * k + 1, 4 * k + 1, 4 * k + 1},
+                                 [](double u, double v, double w) { return glm::dvec3(1.25 * u, v, w); });
+    fx::set_scalar_field(mesh, "temperature", [](const glm::dvec3& p) {
+        const glm::dvec3 hot(0.8, 0.35, 0.6);
+        return 0.35 + 0.25 * std::sin(6.0 * p.x + 1.0) * std::cos(5.0 * p.y) + 0.3 * p.z +
+               0.45 * std::exp(-glm::dot(p - hot, p - hot) / 0.03);
+    });
+    return tetrahedra ? fx::tetrahedralize(mesh) : mesh;
+}
 
 } // namespace
 
@@ -44,8 +68,9 @@ int run_convert(const std::vector<std::string>& args) {
         if (!parsed.positional.empty()) throw fx::Error("--synthetic takes no input file");
         const std::string name = parsed.get("synthetic");
         const int cells = int_option(parsed, "convert", "cells", 1000000);
-        if (name != "duct" && name != "duct-hex") throw fx::Error("--synthetic: unknown mesh '" + name + "' (expected duct or duct-hex)");
-        mesh = fx::make_curved_duct(std::size_t(cells), name == "duct");
+        if (name == "duct" || name == "duct-hex") mesh = fx::make_curved_duct(std::size_t(cells), name == "duct");
+        else if (name == "box-hex" || name == "box-tet") mesh = make_box(std::size_t(cells), name == "box-tet");
+        else throw fx::Error("--synthetic: unknown mesh '" + name + "' (expected duct, duct-hex, box-hex or box-tet)");
         source = "synthetic " + name;
     } else {
         if (parsed.has("cells")) throw fx::Error("--cells is an option of --synthetic");

@@ -5,6 +5,8 @@
 
 namespace cellfx::fx {}
 namespace cellfx::terrain {}
+namespace cellfx::verify {} // the benches' image comparison (testing/verify)
 
 namespace fx = cellfx::fx;
 namespace terrain = cellfx::terrain;
+namespace verify = cellfx::verify;

@@ -100,10 +100,16 @@ struct CellRenderOptions {
     // Classic absorption: cut cells at the transfer function's breakpoints (§V) so that colour
     // and extinction are linear inside every piece; off shows §II's projection alone.
     bool slice_breakpoints = true;
+    // Where the frame's time goes (CellRenderStats' stage figures; cellfx bench render): each GL
+    // stage runs alone, the GL finished before and after it, timed by a GL_TIME_ELAPSED query,
+    // and the frame's draws are issued once more first with rasterisation off to time their
+    // vertex stage alone. For benchmarks: it slows the frame (and replaces `timing`'s query).
+    bool profile = false;
 };
 
 struct CellRenderStats {
-    double gpu_ms = -1.0;         // GL_TIME_ELAPSED of all GL work of the frame; −1 if not timed
+    double gpu_ms = -1.0;         // GL_TIME_ELAPSED of all GL work of the frame (with profile: the
+                                  // stages' `gl` sum, `vertex`'s rerun aside); −1 if not timed
     double cpu_ms = 0.0;          // CPU work of the frame (projection, caps, batches, uploads)
     std::size_t cells = 0;        // cells in the mesh
     std::size_t cells_drawn = 0;  // classic: cells in some batch (culled ones left out)
@@ -114,11 +120,27 @@ struct CellRenderStats {
     double setup_ms = 0.0;         // one-time work done in this frame (a sort's per-mesh state)
     double subdivision_ms = 0.0;   // problem faces and the working mesh (§V)
     double sort_ms = 0.0;          // visibility sort for this view
-    double projection_ms = 0.0;    // classic: projected subdivisions and vertex colours; exact: items
+    double projection_ms = 0.0;    // classic: projected subdivisions and vertex colours; exact: items;
+                                   // pcp (classic PCP) too: footprints, batches and caps
     std::size_t problem_cells = 0; // cells cut into tetrahedra for this view (§V)
     std::size_t sort_cycles = 0;   // visibility cycles the sort found and broke
     std::size_t pieces = 0;        // classic: convex pieces projected (cells, tetrahedra, slabs)
     std::size_t polygons = 0;      // classic: polygons of their projected subdivisions
+    // With CellRenderOptions::profile (else 0), each GL stage of the frame run alone (the CPU's
+    // projection and sort are projection_ms, sort_ms and subdivision_ms above, timed on the CPU
+    // before the GL work starts), in ms by the CPU's clock from the GL finished before it to the
+    // GL finished after it (`wall`: what it costs end to end on any GL) and by its
+    // GL_TIME_ELAPSED query (`gl`: the GL's own clock; Mesa's llvmpipe counts only part of its
+    // work there, so `wall` is the figure on it):
+    struct StageTime {
+        double wall = 0.0, gl = 0.0;
+    };
+    StageTime tables;   // the projector's tables and culled cells brought up to date (0 if current)
+    StageTime clear;    // the path's own target cleared
+    StageTime upload;   // the frame's buffers sent (cell lists, caps, classic polygons, pieces)
+    StageTime vertex;   // the draws, issued once more first with rasterisation off: vertex fetch, shading, assembly
+    StageTime fragment; // the draws less `vertex`: rasterisation, fragment shading, blending
+    StageTime resolve;  // the target composited over the host's framebuffer
 };
 
 class CellRenderer {
@@ -170,7 +192,17 @@ public:
                           const CellRenderOptions& options = {}, CellRenderStats* stats = nullptr);
 
     std::size_t cell_count() const;
-    std::size_t gpu_bytes() const; // mesh buffers + tables
+    std::size_t gpu_bytes() const; // mesh buffers + tables + the passes' own (gpu_memory() less targets)
+    // The GPU memory the renderer holds, in bytes, by who reads it.
+    struct Memory {
+        std::size_t mesh = 0;         // points, connectivity, cell offsets and words, transfer tables: every path but absorption
+        std::size_t cell_tables = 0;  // per face triangle planes, scalar functions, barycentric rows, elements: the exact paths
+        std::size_t unique_faces = 0; // mip's faces, made on first use
+        std::size_t pcp_list = 0;     // classic pcp's frame cell list and slot data
+        std::size_t absorption = 0;   // the absorption paths': frame lists and geometry, opacity and pre-integration tables
+        std::size_t targets = 0;      // the paths' own targets: per pixel, not per cell
+    };
+    Memory gpu_memory() const;
 
 private:
     friend struct ProjectorAccess; // passes built on this renderer's projector (fx/src/render/projector_access.hpp)

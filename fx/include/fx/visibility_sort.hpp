@@ -35,14 +35,15 @@
 // emitted early and SortStats::cycles counts it. Every call emits every cell exactly once.
 //
 // Ownership and preconditions: the sort keeps a reference to the mesh, which must outlive it
-// and must not change (neither topology nor points). The mesh passed validate_mesh(); cells
-// may wind either way (planes are oriented from the cell's own centroid). sort() is const and
-// may be called from several threads at once with their own output vectors. Copies share the
-// per-mesh state.
+// and must not change (neither topology nor points) until rebuild() is called for it. The mesh
+// passed validate_mesh(); cells may wind either way (planes are oriented from the cell's own
+// centroid). sort() is const and may be called from several threads at once with their own
+// output vectors. Copies share the per-mesh state.
 //
 //     fx::VisibilitySort sorter(mesh, fx::SortMethod::Xmpvo);   // once per mesh
 //     std::vector<std::uint32_t> order;
 //     sorter.sort(camera, order);                                // per view: farthest first
+//     sorter.rebuild(mesh);                                      // after the mesh changed
 #pragma once
 
 #include <cstddef>
@@ -97,6 +98,13 @@ public:
     // vertex index out of range, more than 2^29 cells for the graph methods).
     VisibilitySort(const CellMesh& mesh, SortMethod method);
 
+    // Rebuilds the per-mesh state for `mesh` (this one changed, or another), reusing its storage:
+    // for a mesh no larger than one seen before nothing is allocated (meshes replaced every
+    // frame: terrain prisms), once a first rebuild has kept the face topology's working storage
+    // (mpvo, xmpvo). The sort then refers to `mesh`. A copy sharing the old state keeps it (this
+    // object then builds anew). Throws like the constructor, before changing anything.
+    void rebuild(const CellMesh& mesh);
+
     SortMethod method() const { return method_; }
     // Every cell exactly once, back to front (farthest first), for this camera. Reuses scratch
     // kept with the per-mesh state, so that a steady sort allocates nothing. Safe from several
@@ -112,10 +120,10 @@ public:
 private:
     SortMethod method_;
     double setup_seconds_ = 0.0;
-    std::shared_ptr<const sort_detail::KeySort> keys_;       // centroid, power
-    std::shared_ptr<const sort_detail::FaceGraph> graph_;    // mpvo, xmpvo
-    std::shared_ptr<const sort_detail::ExteriorFaces> exterior_; // xmpvo
-    std::shared_ptr<sort_detail::Scratch> scratch_;              // one sort's turn, xmpvo's edges
+    std::shared_ptr<sort_detail::KeySort> keys_;           // centroid, power
+    std::shared_ptr<sort_detail::FaceGraph> graph_;        // mpvo, xmpvo
+    std::shared_ptr<sort_detail::ExteriorFaces> exterior_; // xmpvo
+    std::shared_ptr<sort_detail::Scratch> scratch_;        // one sort's turn, xmpvo's edges, rebuild()'s topology
 };
 
 } // namespace cellfx::fx

@@ -11,16 +11,18 @@
 //   1. cells wholly behind the near plane are skipped; cells it cuts are clipped to the part in
 //      front and closed by a cap on the near plane (clip_polyhedron), so a camera inside the
 //      mesh composites only what lies ahead;
-//   2. with slicing on, a cell whose scalar range strictly contains breakpoints of the transfer
-//      function is cut into consistent tetrahedra (subdivide_cell), ordered back to front
-//      among themselves through their shared faces, and each tetrahedron into slabs between
-//      consecutive breakpoints (the scalar is linear in a tetrahedron, so the cuts are planes
-//      and the slabs are ordered along its gradient). Inside a slab colour and extinction are
-//      linear in s, which is what §II's texture and vertex colours assume; steps are taken
-//      from the slab's side;
-//   3. the projected subdivision (Shirley–Tuchman for whole tetrahedra in front of the near
-//      plane, the general convex overlay for everything else: projected_subdivision.hpp);
-//   4. at each polygon vertex: τ_f, τ_b = σ(s_front), σ(s_back); the colour C of the vertex ray
+//   2. a cell that is not a tetrahedron is cut into its consistent tetrahedra (§IV,
+//      subdivide_cell), ordered back to front among themselves through their shared faces: a
+//      hexahedron costs what its five or six tetrahedra cost (the overlay of its own front and
+//      back faces took 1.4 times the instructions);
+//   3. with slicing on, a tetrahedron whose scalar range strictly contains breakpoints of the
+//      transfer function is cut into slabs between consecutive breakpoints (the scalar is
+//      linear in a tetrahedron, so the cuts are planes and the slabs are ordered along its
+//      gradient). Inside a slab colour and extinction are linear in s, which is what §II's
+//      texture and vertex colours assume; steps are taken from the slab's side;
+//   4. the projected subdivision (Shirley–Tuchman for whole tetrahedra in front of the near
+//      plane, the general convex overlay for slabs and clipped pieces: projected_subdivision.hpp);
+//   5. at each polygon vertex: τ_f, τ_b = σ(s_front), σ(s_back); the colour C of the vertex ray
 //      from emission_absorption() (exact for the linear piece), divided by its α; profile
 //      vertices (l = 0) take the glow colour c(s) there. The thickness and τ_a are scaled
 //      jointly per piece (only their product matters): u = l/a, v = τ_a·a/K with
@@ -32,7 +34,8 @@
 // linear on screen) give the part of the ray in front of the scene, which scales u.
 //
 // Ownership: the builder keeps references to the geometry and the transfer function, which
-// must outlive it and not change; it holds scratch buffers (use one builder per thread).
+// must outlive it (a function changed in place is taken by transfer_function_changed()); it
+// holds scratch buffers (use one builder per thread).
 // Preconditions: the cells' point ids index the geometry's points; the transfer function is
 // in the field's units (not normalized).
 #pragma once
@@ -92,6 +95,10 @@ public:
     ClassicAbsorptionBuilder(const ProjectorGeometry& geometry, const TransferFunction& tf,
                              const ClassicSettings& settings);
 
+    // The transfer function (the object given to the constructor) has new points: its
+    // breakpoints are taken again, into the same storage.
+    void transfer_function_changed();
+    void set_settings(const ClassicSettings& settings) { settings_ = settings; }
     void set_view(const ProjectorView& view, const ProjectionFrame& frame);
     // Appends cells[order[0]], cells[order[1]], ... (back to front) to `out`.
     void append(const CellMesh& cells, const std::uint32_t* order, std::size_t count, ClassicGeometry& out);

@@ -7,14 +7,29 @@
 
 #include <glm/geometric.hpp>
 
+#include "frame_storage.hpp"
 #include "mesh/tetrahedralize.hpp"
 
 namespace cellfx::fx {
 
-ViewDependentSubdivision::ViewDependentSubdivision(const CellMesh& mesh, double planarity) : mesh_(mesh) {
+ViewDependentSubdivision::ViewDependentSubdivision(const CellMesh& mesh, double planarity)
+    : mesh_(mesh), planarity_(planarity) {
+    find_candidates();
+}
+
+void ViewDependentSubdivision::mesh_changed() {
+    find_candidates();
+    subdivided_count_ = 0; // the working mesh is the old mesh's: cells() is the mesh until update()
+    problem_faces_ = 0;
+    changed_ = true;
+}
+
+void ViewDependentSubdivision::find_candidates() {
+    const CellMesh& mesh = mesh_;
     const std::size_t nc = mesh.cell_count();
-    subdivided_.assign(nc, 0);
-    problem_.assign(nc, 0);
+    assign_kept(subdivided_, nc, std::uint8_t(0));
+    assign_kept(problem_, nc, std::uint8_t(0));
+    candidates_.clear();
     for (std::size_t c = 0; c < nc; ++c) {
         const CellType type = mesh.cell_types[c];
         const std::uint32_t* cv = mesh.cell_vertices(c);
@@ -34,7 +49,7 @@ ViewDependentSubdivision::ViewDependentSubdivision(const CellMesh& mesh, double 
                                           glm::length(t2 - l), glm::length(s2 - s1), glm::length(t2 - t1)});
             // b, the vertex of S off the diagonal, against T's outward plane: outside is reflex.
             const double fold = glm::dot(nt / lt, s1 - l);
-            if (fold > planarity * edge) candidates_.push_back({std::uint32_t(c), l, ns / ls, nt / lt});
+            if (fold > planarity_ * edge) candidates_.push_back({std::uint32_t(c), l, ns / ls, nt / lt});
         }
     }
 }
@@ -54,8 +69,9 @@ bool ViewDependentSubdivision::update(const Camera& camera) {
             ++problem_faces_;
         }
     }
-    if (problem_ == subdivided_) return false;
-    subdivided_ = problem_; // restored cells drop out, new problem cells come in
+    if (problem_ == subdivided_ && !changed_) return false;
+    changed_ = false;
+    std::copy(problem_.begin(), problem_.end(), subdivided_.begin()); // restored cells drop out, new ones come in
     subdivided_count_ = static_cast<std::size_t>(std::count(subdivided_.begin(), subdivided_.end(), std::uint8_t(1)));
     rebuild();
     return true;
@@ -66,12 +82,14 @@ void ViewDependentSubdivision::rebuild() {
     working_.cell_types.clear();
     working_.cell_offsets.assign(1, 0u);
     working_.connectivity.clear();
-    working_.blocks.clear();
     parent_.clear();
     piece_.clear();
     if (subdivided_count_ == 0) return;
-    if (working_.points.size() != mesh_.points.size()) working_.points = mesh_.points;
-    working_.begin_block("view-dependent subdivision");
+    // Into the storage of the last rebuild (the block keeps its name: no string made per frame).
+    assign_range_kept(working_.points, mesh_.points.begin(), mesh_.points.end());
+    if (working_.blocks.empty()) working_.begin_block("view-dependent subdivision");
+    working_.blocks[0].first_cell = 0;
+    working_.blocks[0].cell_count = 0;
     for (std::size_t c = 0; c < mesh_.cell_count(); ++c) {
         const CellType type = mesh_.cell_types[c];
         if (subdivided_[c]) {

@@ -21,8 +21,12 @@
 // stopped being problems are restored. While the set stays the same (a camera that moves a
 // little, or a mesh with planar faces, which never has candidates) nothing is rebuilt.
 //
-// Ownership: keeps a reference to `mesh`, which must outlive this object and not change.
-// Preconditions: the mesh passed validate_mesh() with positively oriented cells.
+// A mesh that changes (terrain prisms, every frame) is taken again by mesh_changed(), which
+// finds its candidates anew into the same storage: a steady frame allocates nothing.
+//
+// Ownership: keeps a reference to `mesh`, which must outlive this object and change only
+// before a call to mesh_changed(). Preconditions: the mesh passed validate_mesh() with
+// positively oriented cells.
 #pragma once
 
 #include <cstddef>
@@ -41,6 +45,10 @@ public:
     // `planarity` is the relative fold below which a quad counts as planar: the distance of a
     // quad's fourth vertex from the plane of the other three over the quad's longest edge.
     explicit ViewDependentSubdivision(const CellMesh& mesh, double planarity = 1e-6);
+
+    // The mesh changed (points, cells or both): its candidate faces are found again and no cell
+    // is subdivided until the next update(), which then returns true.
+    void mesh_changed();
 
     // Finds the problem cells for this camera and updates the working mesh. Returns true when
     // the working mesh changed (callers rebuild what they derived from it, e.g. a sort).
@@ -70,9 +78,12 @@ private:
         glm::dvec3 corner;           // L, on both triangles
         glm::dvec3 normal_s, normal_t; // outward normals of the two triangles
     };
+    void find_candidates();
     void rebuild();
 
     const CellMesh& mesh_;
+    double planarity_;
+    bool changed_ = false; // mesh_changed() since the last update()
     std::vector<Candidate> candidates_;
     std::vector<std::uint8_t> subdivided_, problem_;
     std::size_t subdivided_count_ = 0, problem_faces_ = 0, rebuilds_ = 0;

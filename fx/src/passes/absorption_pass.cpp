@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <exception>
+#include <iterator>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -19,6 +20,7 @@
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 #include "frame_storage.hpp"
+#include "fx/transfer_function.hpp"
 
 namespace cellfx::fx {
 namespace {
@@ -42,21 +44,8 @@ AbsorptionPass::AbsorptionPass(GlProjector& projector)
     : projector_(projector), classic_programs_(projector.programs({"absorption.vert", "absorption.frag"})),
       exact_programs_(projector.programs({"cells.vert", "absorption_exact.frag"}, projector.mesh_defines().set("CELL_LIST"))),
       subdivision_(projector.mesh()), exact_list_(projector) {
-    const CellMesh& mesh = projector.mesh();
-    const ProjectorGeometry& geometry = projector.geometry();
-    // The longest chord of a convex cell is at most its bounding-box diagonal. (The projector
-    // has oriented every cell: faces wind outward.)
-    double longest = 0.0;
-    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
-        const std::uint32_t* cv = mesh.cell_vertices(c);
-        glm::dvec3 lo(1e300), hi(-1e300);
-        for (int i = 0; i < cell_vertex_count(mesh.cell_types[c]); ++i) {
-            const glm::dvec3 p(geometry.positions[cv[i]]);
-            lo = glm::min(lo, p), hi = glm::max(hi, p);
-        }
-        longest = std::max(longest, glm::length(hi - lo));
-    }
-    max_length_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
+    measure_cells();
+    max_length_ = longest_chord_;
 
     // Classic: the frame's ClassicVertex array as attributes 0–2 (absorption.vert).
     vao_ = gl::VertexArray::create();
@@ -71,30 +60,70 @@ AbsorptionPass::AbsorptionPass(GlProjector& projector)
 
 AbsorptionPass::~AbsorptionPass() = default;
 
+void AbsorptionPass::measure_cells() {
+    const CellMesh& mesh = projector_.mesh();
+    // The longest chord of a convex cell is at most its bounding-box diagonal.
+    double longest = 0.0;
+    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+        const std::uint32_t* cv = mesh.cell_vertices(c);
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int i = 0; i < cell_vertex_count(mesh.cell_types[c]); ++i) {
+            const glm::dvec3& p = mesh.points[cv[i]];
+            lo = glm::min(lo, p), hi = glm::max(hi, p);
+        }
+        longest = std::max(longest, glm::length(hi - lo));
+    }
+    longest_chord_ = longest > 0.0 ? longest * (1.0 + 1e-6) : 1.0;
+}
+
 void AbsorptionPass::transfer_function_changed() {
-    builders_.clear(); // they evaluate the old function
+    for (auto& builder : builders_) builder->transfer_function_changed(); // their breakpoints
     preintegration_ready_ = false;
 }
 
 std::size_t AbsorptionPass::gpu_bytes() const { return table_bytes_ + frame_.capacity() + index_.capacity() + exact_list_.gpu_bytes(); }
 
 const VisibilitySort& AbsorptionPass::sort_for(SortMethod method, CellRenderStats& stats) {
-    auto it = sorts_.find(method);
-    if (it == sorts_.end()) {
+    const std::size_t m = static_cast<std::size_t>(method);
+    if (m >= kSortMethods) throw Error("absorption: unknown visibility sort");
+    std::unique_ptr<VisibilitySort>& sort = sorts_[m];
+    if (!sort || sort_stale_[m]) {
         const auto t0 = Clock::now();
-        it = sorts_.emplace(method, std::make_unique<VisibilitySort>(subdivision_.cells(), method)).first;
+        if (sort) sort->rebuild(subdivision_.cells()); // into the storage of its last build
+        else sort = std::make_unique<VisibilitySort>(subdivision_.cells(), method);
+        sort_stale_[m] = false;
         stats.setup_ms += ms_since(t0);
     }
-    return *it->second;
+    return *sort;
 }
 
 void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, bool exact,
                              const CellRenderOptions& options, const ParallelFor& parallel_for,
                              CellRenderStats& stats) {
     auto t0 = Clock::now();
+    const std::vector<TransferPoint>& tf = projector_.transfer_function().points();
+    const auto same_point = [](const TransferPoint& a, const TransferPoint& b) {
+        return a.s == b.s && a.color == b.color && a.sigma == b.sigma;
+    };
+    if (!std::equal(tf.begin(), tf.end(), tf_points_.begin(), tf_points_.end(), same_point)) {
+        transfer_function_changed();
+        assign_range_kept(tf_points_, tf.begin(), tf.end());
+    }
+    if (mesh_changed_) {
+        mesh_changed_ = false;
+        subdivision_.mesh_changed();
+        measure_cells();
+        // The table's lengths reach past the longest chord; rebuilt when a chord leaves that
+        // range or uses less than half of it (with a 25% margin, so that a mesh changing a little
+        // every frame does not rebuild it every frame).
+        if (longest_chord_ > max_length_ || longest_chord_ < 0.5 * max_length_) {
+            max_length_ = 1.25 * longest_chord_;
+            preintegration_ready_ = false;
+        }
+    }
     // §V: problem cells for this view; the sorts are built on the working mesh, so a new one
-    // invalidates them.
-    if (subdivision_.update(camera)) sorts_.clear();
+    // (or a changed mesh) makes them stale.
+    if (subdivision_.update(camera)) std::fill(std::begin(sort_stale_), std::end(sort_stale_), true);
     const CellMesh& cells = subdivision_.cells();
     stats.subdivision_ms = ms_since(t0);
     stats.problem_cells = subdivision_.subdivided_cells();
@@ -117,7 +146,7 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
     // Classic: the projected subdivisions, in order, split into contiguous runs per thread.
     if (classic_settings_.slice_breakpoints != options.slice_breakpoints) {
         classic_settings_.slice_breakpoints = options.slice_breakpoints;
-        builders_.clear();
+        for (auto& builder : builders_) builder->set_settings(classic_settings_);
     }
     // Contiguous runs of the order, one builder each, concatenated in order by draw(). More runs
     // than threads, so that a host's job system can balance them.
@@ -197,6 +226,38 @@ void AbsorptionPass::ensure_preintegration_table() {
     preintegration_ready_ = true;
 }
 
+void AbsorptionPass::upload(bool exact) {
+    if (exact) {
+        ensure_preintegration_table();
+        projector_.upload_pieces(pieces_);
+        exact_list_.upload(list_cells_, {});
+        return;
+    }
+    ensure_opacity_table();
+    // The runs' vertices and indices one after the other (each run's indices count from its
+    // first vertex: drawn with that base vertex).
+    resize_kept(run_vertices_, chunks_ + 1);
+    resize_kept(run_indices_, chunks_ + 1);
+    run_vertices_[0] = run_indices_[0] = 0;
+    for (std::size_t t = 0; t < chunks_; ++t) {
+        run_vertices_[t + 1] = run_vertices_[t] + parts_[t].vertices.size();
+        run_indices_[t + 1] = run_indices_[t] + parts_[t].indices.size();
+    }
+    frame_.reserve(run_vertices_[chunks_] * sizeof(ClassicVertex));
+    index_.reserve(run_indices_[chunks_] * sizeof(std::uint32_t));
+    glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
+    glVertexArrayElementBuffer(vao_.id(), index_.id());
+    for (std::size_t t = 0; t < chunks_; ++t) {
+        const ClassicGeometry& part = parts_[t];
+        if (part.indices.empty()) continue;
+        glNamedBufferSubData(frame_.id(), GLintptr(run_vertices_[t] * sizeof(ClassicVertex)),
+                             GLsizeiptr(part.vertices.size() * sizeof(ClassicVertex)), part.vertices.data());
+        glNamedBufferSubData(index_.id(), GLintptr(run_indices_[t] * sizeof(std::uint32_t)),
+                             GLsizeiptr(part.indices.size() * sizeof(std::uint32_t)), part.indices.data());
+    }
+    FX_GL_CHECK("absorption upload");
+}
+
 void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                           CellRenderStats& stats) {
     // Scene depth: the renderer binds the texture; the mode and ranges are per program.
@@ -208,9 +269,6 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); // "over", back to front
     if (exact) {
-        ensure_preintegration_table();
-        projector_.upload_pieces(pieces_);
-        exact_list_.upload(list_cells_, {});
         projector_.set_view_uniforms(exact_program, camera, viewport);
         const GLuint p = exact_program.id();
         glProgramUniform3f(p, kUniformPreintegration, float(s_lo_), float(s_per_unit_), float(l_per_unit_));
@@ -228,7 +286,6 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
         FX_GL_CHECK("absorption-exact draw");
         return;
     }
-    ensure_opacity_table();
     glBindTextureUnit(kUnitOpacity, opacity_.id());
     glBindSampler(kUnitOpacity, 0);
     glProgramUniform1i(classic.id(), kUniformOpacitySize, kOpacitySizeTexels);
@@ -236,13 +293,11 @@ void AbsorptionPass::draw(const Camera& camera, const Viewport& viewport, bool e
     glDisable(GL_CULL_FACE);
     glBindVertexArray(vao_.id());
     for (std::size_t t = 0; t < chunks_; ++t) {
-        const ClassicGeometry& part = parts_[t];
-        if (part.indices.empty()) continue;
-        frame_.upload(part.vertices.data(), part.vertices.size() * sizeof(ClassicVertex));
-        if (index_.upload(part.indices.data(), part.indices.size() * sizeof(std::uint32_t)))
-            glVertexArrayElementBuffer(vao_.id(), index_.id());
-        glVertexArrayVertexBuffer(vao_.id(), 0, frame_.id(), 0, sizeof(ClassicVertex));
-        glDrawElements(GL_TRIANGLES, GLsizei(part.indices.size()), GL_UNSIGNED_INT, nullptr);
+        const std::size_t count = run_indices_[t + 1] - run_indices_[t];
+        if (count == 0) continue;
+        glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(count), GL_UNSIGNED_INT,
+                                 reinterpret_cast<const void*>(run_indices_[t] * sizeof(std::uint32_t)),
+                                 GLint(run_vertices_[t]));
         stats.draw_calls += 1;
     }
     FX_GL_CHECK("absorption draw");

@@ -15,6 +15,14 @@
 //            planes and the pre-integration table;
 // both into the caller's float target with premultiplied "over" (ONE, ONE_MINUS_SRC_ALPHA).
 //
+// A new or changed mesh (set_mesh, update_mesh: terrain prisms every frame) keeps the pass:
+// mesh_changed() has its per-mesh state — the subdivision's candidates, every sort's face
+// topology, graph and exterior faces, the longest chord — rebuilt in place at the next
+// prepare(), into the storage of the last build, so that a steady frame allocates nothing. The
+// pre-integration table is rebuilt only when the transfer function changes or the longest chord
+// leaves its length range (kept with a margin, so a mesh that changes a little every frame
+// does not rebuild it every frame).
+//
 // Ownership: keeps a reference to the projector (mesh topology, geometry, programs), which must
 // outlive it; owns its tables, buffers and per-frame scratch. Preconditions: the renderer's GL
 // context current; the projector's mesh bound (GlProjector::bind_mesh) for draw().
@@ -23,7 +31,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
-#include <map>
 #include <memory>
 #include <vector>
 
@@ -48,15 +55,20 @@ public:
     AbsorptionPass(const AbsorptionPass&) = delete;
     AbsorptionPass& operator=(const AbsorptionPass&) = delete;
 
-    // The projector's transfer function changed: tables are rebuilt lazily.
-    void transfer_function_changed();
+    // The projector's mesh changed (points, cells or both, same kind of cells): the per-mesh state
+    // is rebuilt in place at the next prepare(). (A changed transfer function is seen by
+    // prepare() itself.)
+    void mesh_changed() { mesh_changed_ = true; }
 
     // CPU work of the frame; fills the sort/subdivision/projection fields of `stats`.
     // The classic flavour's projection runs through `parallel_for`.
     void prepare(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
                  const ParallelFor& parallel_for, CellRenderStats& stats);
-    // GL work of the frame prepared last, into the bound target (cleared to 0). With
-    // options.scene_depth the renderer has bound the scene's depth texture to unit 3.
+    // Sends the frame prepared last to the GL (and the flavour's table, made on first use).
+    void upload(bool exact);
+    // GL work of the frame prepared and uploaded last, into the bound target (cleared to 0); may
+    // be called again for the same frame. With options.scene_depth the renderer has bound the
+    // scene's depth texture to unit 3.
     void draw(const Camera& camera, const Viewport& viewport, bool exact, const CellRenderOptions& options,
               CellRenderStats& stats);
 
@@ -64,16 +76,30 @@ public:
 
 private:
     const VisibilitySort& sort_for(SortMethod method, CellRenderStats& stats);
+    // The projector's transfer function is not the one tf_points_ holds: tables are rebuilt
+    // lazily, the classic builders take its breakpoints.
+    void transfer_function_changed();
+    // The longest chord of any cell; the pre-integration table's range follows it.
+    void measure_cells();
     void ensure_opacity_table();
     void ensure_preintegration_table();
 
     GlProjector& projector_;
     const ProgramVariants classic_programs_;
     const ProgramVariants exact_programs_;
-    double max_length_ = 1.0; // longest chord of any cell (the pre-integration table's length range)
+    double longest_chord_ = 1.0; // of any cell of the mesh
+    double max_length_ = 1.0;    // the pre-integration table's length range (≥ longest_chord_)
+    bool mesh_changed_ = false;
     ViewDependentSubdivision subdivision_;
-    std::map<SortMethod, std::unique_ptr<VisibilitySort>> sorts_;
+    // Per SortMethod: the sort, made on first use; stale when the working mesh changed since
+    // it was built (rebuilt in place on its next use).
+    static constexpr std::size_t kSortMethods = 4;
+    std::unique_ptr<VisibilitySort> sorts_[kSortMethods];
+    bool sort_stale_[kSortMethods] = {};
     std::vector<std::uint32_t> order_;
+    // The transfer function the tables and builders were made for (compared every frame: a
+    // normalized one follows a changed mesh's range).
+    std::vector<TransferPoint> tf_points_;
 
     // Classic: one builder and one output per worker, filled by prepare(), drawn in order.
     ClassicSettings classic_settings_;
@@ -88,7 +114,8 @@ private:
     GlCellList exact_list_;
 
     gl::VertexArray vao_; // classic: its element buffer is index_
-    gl::GrowingBuffer frame_, index_;
+    gl::GrowingBuffer frame_, index_; // classic: every run's vertices and indices, one after the other
+    std::vector<std::size_t> run_vertices_, run_indices_; // classic: where each run starts in them (+ the end)
     gl::Texture opacity_, preintegration_;
     gl::Buffer preintegration_buffer_, opacity_buffer_;
     bool opacity_ready_ = false, preintegration_ready_ = false;

@@ -21,6 +21,13 @@ namespace cellfx::fx {
 class MipPass {
 public:
     explicit MipPass(GlProjector& projector);
+    // The frame's CPU work: the near-plane caps of `camera`'s view (none unless the near plane
+    // cuts the mesh's bounds).
+    void prepare(const Camera& camera);
+    // Sends the caps to the GL.
+    void upload();
+    // Draws into the bound target (cleared to 0) with the projector's mesh bound; may be called
+    // again for the same frame (nothing is uploaded here).
     void draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options, CellRenderStats& stats);
 
 private:

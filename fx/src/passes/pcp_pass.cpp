@@ -1,6 +1,8 @@
 // Based on: Roettger & Ertl 2003, §3 (PCP, three passes per cell) and §5 (near-plane caps).
 #include "passes/pcp_pass.hpp"
 
+#include <chrono>
+
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"
 #include "frame_storage.hpp"
@@ -11,8 +13,9 @@ PcpPass::PcpPass(GlProjector& projector)
                                                         projector.mesh_defines().set("CELL_LIST").set("CLASSIC"))),
       caps_programs_(projector.programs({"caps.vert", "pcp.frag"})), list_(projector) {}
 
-void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
-                   CellRenderStats& stats) {
+void PcpPass::prepare(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
+                      CellRenderStats& stats) {
+    const auto start = std::chrono::steady_clock::now();
     const CellMesh& mesh = projector_.mesh();
     const ProjectorGeometry& geometry = projector_.geometry();
     const ProjectorView view = projector_.view(camera);
@@ -22,7 +25,7 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
     const glm::dmat4 vp = camera.projection_matrix(aspect) * view.view;
     cell_footprints(mesh, geometry, vp, projected_, caps_, viewport.width, viewport.height, options.batch_tile,
                     footprints_);
-    const std::uint32_t batches = batch_footprints(footprints_, batch_of_, masks_);
+    const std::uint32_t batches = batches_ = batch_footprints(footprints_, batch_of_, masks_);
 
     // Counting sort of cells by batch, then the caps (as fan triangles) grouped the same way.
     // There are never more batches or listed cells than cells: room for that many from the
@@ -45,7 +48,6 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
         list_ranges_[fill_[b]] = projected_.depth_range[c];
         list_cells_[fill_[b]++] = std::uint32_t(c);
     }
-    list_.upload(list_cells_, list_ranges_);
     // The caps of each batch in batch order: a counting sort like the cells'.
     assign_kept(cap_first_, batches + 1, 0u);
     for (std::size_t k = 0; k < caps_.polygon_count(); ++k) {
@@ -66,11 +68,21 @@ void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRen
             GlProjector::append_cap_vertices(caps_, projected_, cap_order_[i], cap_data_);
     }
     cap_start_[batches] = std::uint32_t(cap_data_.size() / 2);
-    projector_.upload_frame(cap_data_);
     stats.cells_drawn = drawn;
     stats.batches = batches;
     stats.caps = caps_.polygon_count();
+    stats.projection_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
 
+void PcpPass::upload() {
+    list_.upload(list_cells_, list_ranges_);
+    projector_.upload_frame(cap_data_);
+}
+
+void PcpPass::draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options,
+                   CellRenderStats& stats) {
+    const std::uint32_t batches = batches_;
+    projector_.bind_frame();
     const gl::Program& program = programs_(options.scene_depth != 0);
     const gl::Program& caps_program = caps_programs_(options.scene_depth != 0);
     for (const gl::Program* p : {&program, &caps_program}) {

@@ -24,7 +24,16 @@ namespace cellfx::fx {
 class PcpPass {
 public:
     explicit PcpPass(GlProjector& projector);
+    // The frame's CPU work: the mesh projected for `camera`, its near-plane caps, footprints and
+    // batches, the frame's cell list and cap triangles in batch order; fills projection_ms,
+    // cells_drawn, batches and caps of `stats`.
+    void prepare(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options, CellRenderStats& stats);
+    // Sends the cell list and the caps to the GL.
+    void upload();
+    // Draws the batches into the bound 8-bit target (cleared to 0); may be called again for the
+    // same frame (nothing is uploaded here).
     void draw(const Camera& camera, const Viewport& viewport, const CellRenderOptions& options, CellRenderStats& stats);
+    std::size_t gpu_bytes() const { return list_.gpu_bytes(); } // the frame's cell list
 
 private:
     GlProjector& projector_;
@@ -40,6 +49,7 @@ private:
     std::vector<glm::vec2> list_ranges_;
     std::vector<std::uint64_t> masks_;
     std::vector<glm::uvec4> cap_data_;
+    std::uint32_t batches_ = 0; // this frame's
 };
 
 } // namespace cellfx::fx

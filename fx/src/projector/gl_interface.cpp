@@ -29,22 +29,27 @@ std::string projector_interface_glsl() {
     // kCellFaceFirst[t] + kCellFaceCount[t]) of kCellFaces, a triangle's fourth vertex −1.
     {
         std::string first = "const int kCellFaceFirst[4] = int[4](", count = "const int kCellFaceCount[4] = int[4](";
-        std::string faces_glsl;
+        std::string faces_glsl, quads_glsl;
         int total = 0, t = 0;
         for (CellType type : {CellType::Tetra, CellType::Pyramid, CellType::Wedge, CellType::Hexahedron}) {
             first += (t ? ", " : "") + std::to_string(total);
             count += (t ? ", " : "") + std::to_string(cell_face_count(type));
+            int quads = 0;
             for (int f = 0; f < cell_face_count(type); ++f, ++total) {
                 const CellFace& face = cell_faces(type)[f];
                 faces_glsl += std::string(total ? ", " : "") + "ivec4(" + std::to_string(face.v[0]) + ", " +
                               std::to_string(face.v[1]) + ", " + std::to_string(face.v[2]) + ", " +
                               std::to_string(face.count == 4 ? int(face.v[3]) : -1) + ")";
+                quads_glsl += std::string(total ? ", " : "") + std::to_string(face.count == 4 ? quads++ : -1);
             }
             ++t;
         }
         s += first + ");\n" + count + ");\n";
         s += "const ivec4 kCellFaces[" + std::to_string(total) + "] = ivec4[" + std::to_string(total) + "](" + faces_glsl + ");\n";
+        s += "const int kFaceQuad[" + std::to_string(total) + "] = int[" + std::to_string(total) + "](" + quads_glsl + ");\n";
         s += "int cell_type_of(uint vertices) { return vertices == 4u ? 0 : vertices == 5u ? 1 : vertices == 6u ? 2 : 3; }\n";
+        // A cell's type from its triangle count (4, 6, 8, 12: all differ).
+        s += "int cell_type_of_triangles(int triangles) { return triangles == 4 ? 0 : triangles == 6 ? 1 : triangles == 8 ? 2 : 3; }\n";
     }
     // Quad halves by cell type, told apart by their triangle counts (4, 6, 8, 12: all differ).
     s += "bool quad_half(int triangles, int k) {\n";

@@ -78,6 +78,47 @@ void barycentric_rows(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3
     out[1] = glm::vec4(glm::vec3(r2), float(-glm::dot(r2, a)));
 }
 
+// A face's plane for the planar test and layout (projector_tables.comp's face_plane): unit
+// normal along b−a × c−a (a triangle) or along the cross product of the diagonals (a quad),
+// through the mean of its corners; zero for a face with no area.
+glm::dvec4 face_plane(const glm::dvec3* p, const CellFace& face) {
+    const bool quad = face.count == 4;
+    const std::uint8_t* v = face.v;
+    const glm::dvec3 n = quad ? glm::cross(p[v[2]] - p[v[0]], p[v[3]] - p[v[1]]) : glm::cross(p[v[1]] - p[v[0]], p[v[2]] - p[v[0]]);
+    const glm::dvec3 centre = quad ? 0.25 * (p[v[0]] + p[v[1]] + p[v[2]] + p[v[3]]) : (p[v[0]] + p[v[1]] + p[v[2]]) / 3.0;
+    const double len = glm::length(n);
+    const double scale = std::max(glm::length(p[v[2]] - p[v[0]]), glm::length(p[quad ? v[3] : v[2]] - p[v[1]]));
+    if (!(len > 1e-12 * scale * scale && len > 0.0)) return glm::dvec4(0.0);
+    const glm::dvec3 u = n / len;
+    return glm::dvec4(u, glm::dot(u, centre));
+}
+
+// Whether a cell of `type` with points p is planar (gl_interface.hpp, kPlanarTolerance) within
+// `tolerance`, as projector_tables.comp's planar_cell decides it; `margin` gets how far inside the
+// tolerance it is, relative to it: negative when it is not planar, near 0 on the border.
+bool planar_cell(const glm::dvec3* p, CellType type, double tolerance, double& margin) {
+    const int n = cell_vertex_count(type);
+    glm::dvec3 lo = p[0], hi = p[0];
+    for (int k = 1; k < n; ++k) lo = glm::min(lo, p[k]), hi = glm::max(hi, p[k]);
+    const double slack = tolerance * glm::length(hi - lo);
+    bool planar = true;
+    double worst = -HUGE_VAL; // the largest distance the test compares with `slack`
+    for (int f = 0; f < cell_face_count(type); ++f) {
+        const CellFace& face = cell_faces(type)[f];
+        const glm::dvec4 plane = face_plane(p, face);
+        if (glm::dvec3(plane) == glm::dvec3(0.0)) planar = false, worst = HUGE_VAL;
+        for (int k = 0; k < n; ++k) {
+            const double d = glm::dot(glm::dvec3(plane), p[k]) - plane.w;
+            const bool on_face = std::find(face.v, face.v + face.count, k) != face.v + face.count;
+            const double distance = on_face ? std::abs(d) : d;
+            planar = planar && distance <= slack;
+            worst = std::max(worst, distance);
+        }
+    }
+    margin = tolerance < 0.0 ? -1.0 : slack > 0.0 ? (slack - worst) / slack : worst <= 0.0 ? 1.0 : -1.0;
+    return planar && tolerance >= 0.0; // a negative tolerance: nothing is planar
+}
+
 // Buffer textures read with texelFetch: their texel count must fit the implementation's limit.
 void check_texture_buffer_size(std::size_t texels, const char* what) {
     GLint most = 0;
@@ -89,31 +130,72 @@ void check_texture_buffer_size(std::size_t texels, const char* what) {
 
 } // namespace
 
-ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell) {
+ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell,
+                                       double planar_tolerance) {
     ProjectorTables t;
-    const std::size_t nt = geometry.triangles.size();
+    const std::size_t nt = geometry.triangles.size(), nc = mesh.cell_count();
     t.planes.resize(nt);
     t.scalar_functions.resize(nt);
     if (vertices_per_cell != 4) t.barycentrics.assign(2 * nt, glm::vec4(0.0f));
     t.elements.resize(3 * nt);
+    t.words.resize(nc);
+    t.planar_margins.resize(nc);
     auto point = [&](std::uint32_t i) { return ScalarPoint{glm::dvec3(geometry.positions[i]), double(geometry.scalars[i])}; };
-    for (std::size_t c = 0; c < mesh.cell_count(); ++c) {
+    for (std::size_t c = 0; c < nc; ++c) {
         const CellType type = mesh.cell_types[c];
         const std::uint32_t* cv = mesh.cell_vertices(c);
-        glm::vec4 tet(0.0f);
-        if (type == CellType::Tetra) {
-            const ScalarPoint v[4] = {point(cv[0]), point(cv[1]), point(cv[2]), point(cv[3])};
-            tet = tetrahedron_function(v);
-        }
-        std::uint32_t triangle = geometry.cell_first_triangle[c];
-        for (int f = 0; f < cell_face_count(type); ++f) {
+        const int n = cell_vertex_count(type), faces = cell_face_count(type);
+        ScalarPoint v[8];
+        glm::dvec3 p[8];
+        for (int k = 0; k < n; ++k) v[k] = point(cv[k]), p[k] = v[k].p;
+        const glm::vec4 tet = type == CellType::Tetra ? tetrahedron_function(v) : glm::vec4(0.0f);
+        // Tetrahedra-only meshes keep the triangle layout (the same for a tetrahedron) and no bit.
+        double margin = 0.0;
+        const bool planar = vertices_per_cell != 4 && planar_cell(p, type, planar_tolerance, margin);
+        t.planar_margins[c] = vertices_per_cell != 4 ? margin : 1.0;
+        const std::uint32_t first = geometry.cell_first_triangle[c];
+        t.words[c] = cell_word(first, geometry.cell_first_triangle[c + 1] - first, planar);
+        std::uint32_t triangle = first;
+        int quads = 0;
+        for (int f = 0; f < faces; ++f) {
+            const CellFace& face = cell_faces(type)[f];
             std::uint8_t local[2][3];
-            const int halves = triangulate_face_local(cell_faces(type)[f], cv, local);
+            const int halves = triangulate_face_local(face, cv, local);
+            if (planar) {
+                // Face f's plane and first half's function in slot f, a quad's diagonal plane
+                // and second half's function in slot F + (its index among the quads).
+                const std::size_t slot = first + std::size_t(f), second = first + std::size_t(faces + quads);
+                const glm::dvec4 plane = face_plane(p, face);
+                t.planes[slot] = glm::vec4(plane);
+                const ScalarPoint &a = v[local[0][0]], &b = v[local[0][1]], &cc = v[local[0][2]];
+                if (halves == 2) {
+                    // As projector_tables.comp: the diagonal plane's sign from the farther of b
+                    // and d, a half of next to no area given its neighbour's function.
+                    const ScalarPoint& d = v[local[1][2]];
+                    glm::dvec3 m = glm::cross(glm::dvec3(plane), cc.p - a.p);
+                    const double side_b = glm::dot(m, b.p - a.p), side_d = glm::dot(m, d.p - a.p);
+                    if (std::abs(side_b) >= std::abs(side_d) ? side_b < 0.0 : side_d > 0.0) m = -m;
+                    const double len = glm::length(m);
+                    if (len > 0.0) m /= len;
+                    t.planes[second] = glm::vec4(glm::vec3(m), float(glm::dot(m, a.p)));
+                    const glm::vec4 f1 = triangle_function(a, b, cc), f2 = triangle_function(a, cc, d);
+                    const double area1 = glm::length(glm::cross(b.p - a.p, cc.p - a.p));
+                    const double area2 = glm::length(glm::cross(cc.p - a.p, d.p - a.p));
+                    t.scalar_functions[slot] = area1 < 1e-6 * area2 ? f2 : f1;
+                    t.scalar_functions[second] = area2 < 1e-6 * area1 ? f1 : f2;
+                    ++quads;
+                } else {
+                    t.scalar_functions[slot] = type == CellType::Tetra ? tet : triangle_function(a, b, cc);
+                }
+            }
             for (int h = 0; h < halves; ++h, ++triangle) {
-                const ScalarPoint a = point(cv[local[h][0]]), b = point(cv[local[h][1]]), cc = point(cv[local[h][2]]);
-                t.planes[triangle] = triangle_plane(a.p, b.p, cc.p);
-                t.scalar_functions[triangle] = type == CellType::Tetra ? tet : triangle_function(a, b, cc);
-                if (vertices_per_cell != 4 && type != CellType::Tetra) barycentric_rows(a.p, b.p, cc.p, &t.barycentrics[2 * triangle]);
+                const ScalarPoint &a = v[local[h][0]], &b = v[local[h][1]], &cc = v[local[h][2]];
+                if (!planar) {
+                    t.planes[triangle] = triangle_plane(a.p, b.p, cc.p);
+                    t.scalar_functions[triangle] = type == CellType::Tetra ? tet : triangle_function(a, b, cc);
+                    if (vertices_per_cell != 4 && type != CellType::Tetra)
+                        barycentric_rows(a.p, b.p, cc.p, &t.barycentrics[2 * std::size_t(triangle)]);
+                }
                 for (int k = 0; k < 3; ++k)
                     t.elements[3 * std::size_t(triangle) + k] = std::uint32_t(c) * std::uint32_t(vertices_per_cell) + local[h][k];
             }
@@ -133,6 +215,8 @@ ProjectorTables GlProjector::read_tables() {
     glGetNamedBufferSubData(planes_.id(), 0, GLsizeiptr(nt * 16), t.planes.data());
     glGetNamedBufferSubData(scalar_fns_.id(), 0, GLsizeiptr(nt * 16), t.scalar_functions.data());
     glGetNamedBufferSubData(elements_.id(), 0, GLsizeiptr(nt * 12), t.elements.data());
+    t.words.resize(mesh_.cell_count());
+    glGetNamedBufferSubData(cell_words_.id(), 0, GLsizeiptr(t.words.size() * 4), t.words.data());
     if (!all_tetrahedra()) {
         t.barycentrics.resize(2 * nt);
         glGetNamedBufferSubData(barycentrics_.id(), 0, GLsizeiptr(nt * 32), t.barycentrics.data());
@@ -399,6 +483,12 @@ void GlProjector::reserve_tables(bool keep) {
     stamps(cell_stamps_, nc);
 }
 
+void GlProjector::set_planar_tolerance(double tolerance) {
+    if (tolerance == planar_tolerance_) return;
+    planar_tolerance_ = tolerance;
+    build_all_ = true;
+}
+
 void GlProjector::set_culling(bool culling) {
     if (culling == culling_) return;
     culling_ = culling;
@@ -439,6 +529,7 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
     glProgramUniform1i(p, kUniformTableAll, build_all_ ? 1 : 0);
     glProgramUniform1i(p, kUniformTableElements, elements_all_ || view_changed ? 1 : 0);
     glProgramUniform1i(p, kUniformTableCull, culling_ ? 1 : 0);
+    glProgramUniform1d(p, kUniformTablePlanarTolerance, planar_tolerance_);
     if (view_changed) {
         // The view's left, right, bottom, top and near planes (not the far one: no path cuts cells
         // there) in the relative frame, moved out by a hair of the mesh's size: cells on a plane
@@ -461,8 +552,7 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
     }
     const std::pair<GLuint, GLuint> textures[] = {{kUnitPoints, points_texture_.id()},
                                                   {kUnitConnectivity, connectivity_texture_.id()},
-                                                  {kUnitCellOffsets, cell_offsets_texture_.id()},
-                                                  {kUnitCellWords, cell_words_texture_.id()}};
+                                                  {kUnitCellOffsets, cell_offsets_texture_.id()}};
     for (const auto& [unit, texture] : textures) {
         glBindTextureUnit(unit, texture);
         glBindSampler(unit, 0);
@@ -472,7 +562,8 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
                                                  {kBindingBarycentricsOut, barycentrics_.id()},
                                                  {kBindingElementsOut, elements_.id()},
                                                  {kBindingPointStamps, point_stamps_.id()},
-                                                 {kBindingCellStamps, cell_stamps_.id()}};
+                                                 {kBindingCellStamps, cell_stamps_.id()},
+                                                 {kBindingCellWordsOut, cell_words_.id()}};
     for (const auto& [binding, buffer] : buffers) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
     glDispatchCompute(GLuint((mesh_.cell_count() + 63) / 64), 1, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
@@ -593,12 +684,19 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
 }
 
 std::size_t GlProjector::gpu_capacity_bytes() const {
-    std::size_t bytes = std::size_t(kTableSize + 1) * 3 * 16;
-    for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &planes_, &scalar_fns_,
-                                       &barycentrics_, &elements_, &piece_points_, &unique_faces_buffer_, &point_stamps_,
-                                       &cell_stamps_})
-        bytes += b->capacity();
-    return bytes;
+    const ProjectorMemory m = memory();
+    return m.mesh + m.cell_tables + m.unique_faces;
+}
+
+ProjectorMemory GlProjector::memory() const {
+    ProjectorMemory m;
+    m.mesh = std::size_t(kTableSize + 1) * 3 * 16; // the transfer-function tables
+    for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &point_stamps_, &cell_stamps_})
+        m.mesh += b->capacity();
+    for (const gl::GrowingBuffer* b : {&planes_, &scalar_fns_, &barycentrics_, &elements_, &piece_points_})
+        m.cell_tables += b->capacity();
+    m.unique_faces = unique_faces_buffer_.capacity();
+    return m;
 }
 
 void GlProjector::upload_tables(const TransferFunction& tf) {
@@ -694,13 +792,42 @@ void GlProjector::draw_slots(std::size_t first_slot, std::size_t slots) const {
                        reinterpret_cast<const void*>(3 * first * sizeof(std::uint32_t)));
 }
 
-void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const {
+glm::dmat4 GlProjector::raster_view_projection(const Camera& camera, const Viewport& viewport, double* ortho_far) const {
     const ProjectorView v = view(camera);
     // No cell is cut at the far plane, as the scan-line reference cuts none: an orthographic
     // view rasterises with far moved past the mesh's deepest corner where that lies beyond it.
-    const double ortho_far =
+    const double far =
         v.orthographic ? std::max(camera.far_distance, v.near_distance + 1.01 * std::max(bounds_depth_range(v).y, 0.0)) : 0.0;
-    const glm::mat4 vp(raster_projection(camera, v.near_distance, double(viewport.width) / double(viewport.height), ortho_far) * v.view);
+    if (ortho_far) *ortho_far = far;
+    return raster_projection(camera, v.near_distance, double(viewport.width) / double(viewport.height), far) * v.view;
+}
+
+glm::ivec4 GlProjector::screen_rect(const Camera& camera, const Viewport& viewport) const {
+    const glm::ivec4 whole(0, 0, viewport.width, viewport.height);
+    if (geometry_.positions.empty()) return glm::ivec4(0);
+    const glm::dvec2 depth = bounds_depth_range(view(camera)); // beyond the near plane
+    if (depth.y < 0.0) return glm::ivec4(0);                    // wholly before it: nothing drawn
+    if (depth.x <= 0.0) return whole;                           // across it: corners behind the eye bound nothing
+    const glm::dmat4 vp = raster_view_projection(camera, viewport, nullptr);
+    glm::dvec2 lo(HUGE_VAL), hi(-HUGE_VAL);
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec4 c = vp * glm::dvec4(bounds_.corner(k), 1.0);
+        const glm::dvec2 ndc = glm::dvec2(c) / c.w;
+        lo = glm::min(lo, ndc), hi = glm::max(hi, ndc);
+    }
+    if (!(std::isfinite(lo.x) && std::isfinite(lo.y) && std::isfinite(hi.x) && std::isfinite(hi.y))) return whole;
+    // To pixels, a pixel wider on every side (rounding of the corners' projection), clamped.
+    const glm::dvec2 size(viewport.width, viewport.height);
+    const glm::dvec2 a = glm::clamp(glm::floor((lo * 0.5 + 0.5) * size) - 1.0, glm::dvec2(0.0), size);
+    const glm::dvec2 b = glm::clamp(glm::ceil((hi * 0.5 + 0.5) * size) + 1.0, glm::dvec2(0.0), size);
+    if (!(b.x > a.x && b.y > a.y)) return glm::ivec4(0); // off screen
+    return glm::ivec4(int(a.x), int(a.y), int(b.x - a.x), int(b.y - a.y));
+}
+
+void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const {
+    const ProjectorView v = view(camera);
+    double ortho_far = 0.0;
+    const glm::mat4 vp(raster_view_projection(camera, viewport, &ortho_far));
     const glm::vec3 eye(v.eye), forward(v.forward);
     const double span = s_hi_ - s_lo_;
     const glm::vec4 table(float(s_lo_), float(s_hi_), float(kTableSize), span > 0.0 ? float((kTableSize - 1) / span) : 0.0f);
@@ -824,9 +951,11 @@ void GlProjector::append_cap_vertices(const NearCaps& caps, const ProjectedCells
 
 void GlProjector::upload_frame(const std::vector<glm::uvec4>& data) {
     frame_.upload(data.data(), data.size() * sizeof(glm::uvec4));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id());
+    bind_frame();
     FX_GL_CHECK("upload frame data");
 }
+
+void GlProjector::bind_frame() const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFrame, frame_.id()); }
 
 std::size_t GlProjector::unique_face_triangles() {
     if (!unique_faces_ready_) {

@@ -32,12 +32,18 @@
 // set-up and gl_PrimitiveID run on one thread before rasterisation, the fetches on every core.
 //   points            vec4 per point (position in the relative frame, scalar)
 //   connectivity      the mesh's cell_vertices, cell offsets
-//   cell words        per cell, cell_word(first triangle, triangle count) (gl_interface.hpp)
+//   cell words        per cell, cell_word(first triangle, triangle count), its planar bit set
+//                     by the tables' pass (gl_interface.hpp)
 //   planes            per face triangle: outward unit normal n, n·p
 //   scalar functions  per face triangle: (g, s0), the scalar on it is g·q + s0 (a
 //                     tetrahedron's: its own linear function, on every face)
 //   barycentrics      per face triangle, two rows: b1 = r1·q + r1w, b2 = r2·q + r2w (meshes
 //                     with cells other than tetrahedra: the exact paths' entry search)
+//   except for planar cells (the planar bit of their word; gl_interface.hpp: kPlanarTolerance),
+//   whose fragments clip their ray by the faces' planes with no search: in the same slots their
+//   F faces' planes, then their Q quads' diagonal planes (which side of the diagonal is the
+//   quad's first half), the scalar function of each face's first half, then of each quad's
+//   second half (F + Q is the cell's triangle count), no barycentric rows
 //   after the mesh's triangles, room for the planes and scalar functions of the tetrahedra a
 //   frame makes (upload_pieces: the absorption paths' view-dependent subdivision).
 //
@@ -71,6 +77,7 @@
 #include "gl/program_cache.hpp"
 #include "gl/scatter_pass.hpp"
 #include "gl/shader_library.hpp"
+#include "projector/gl_interface.hpp"
 
 namespace cellfx::fx {
 
@@ -85,15 +92,30 @@ struct ProgramVariants {
 };
 
 // The per-triangle tables and the element buffer of a mesh (gl_projector's "where the tables are
-// built"): per face triangle its plane, scalar function and (meshes with cells other than
-// tetrahedra) two barycentric rows, and its three vertex ids cell·V + k.
+// built"): in each cell's triangle slots its planes, scalar functions and (meshes with cells
+// other than tetrahedra) two barycentric rows per slot — a planar cell's laid out by face, any
+// other's by triangle — and per face triangle its three vertex ids cell·V + k; per cell its word
+// (gl_interface.hpp: cell_word, with the planar bit).
 struct ProjectorTables {
     std::vector<glm::vec4> planes, scalar_functions, barycentrics;
-    std::vector<std::uint32_t> elements;
+    std::vector<std::uint32_t> elements, words;
+    // build_projector_tables only: per cell, how far inside kPlanarTolerance its planar test
+    // passed, relative to it (negative: failed; near 0: on the border, where the GPU's rounding
+    // may decide otherwise).
+    std::vector<double> planar_margins;
 };
 // The same tables built on the CPU from the oriented mesh and its geometry, with the formulas and
 // float inputs the GPU's pass uses: the reference a GPU build is checked against.
-ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell);
+ProjectorTables build_projector_tables(const CellMesh& mesh, const ProjectorGeometry& geometry, int vertices_per_cell,
+                                       double planar_tolerance = kPlanarTolerance);
+
+// The projector's GPU buffers by who reads them, in bytes (their capacity).
+struct ProjectorMemory {
+    std::size_t mesh = 0;         // points, connectivity, cell offsets and words, stamps, transfer tables
+    std::size_t cell_tables = 0;  // planes, scalar functions, barycentric rows, elements, a frame's pieces:
+                                  // the exact paths' (pcp-exact, absorption-exact)
+    std::size_t unique_faces = 0; // mip's (made on first use)
+};
 
 class GlProjector {
 public:
@@ -113,6 +135,11 @@ public:
     // Culling (default off): prepare_draw() leaves out of the element buffer the cells whose box
     // lies outside the view's side and near planes.
     void set_culling(bool culling);
+    // The planar test's tolerance (default kPlanarTolerance, gl_interface.hpp; negative: no cell
+    // is planar, every one searches its triangles), for tests that hold both fragment roads to
+    // the same picture. The tables are rebuilt at the next draw.
+    void set_planar_tolerance(double tolerance);
+    double planar_tolerance() const { return planar_tolerance_; }
 
     // The mesh as drawn: inverted cells oriented (orient_cells), fields cleared (the geometry
     // has the one in use).
@@ -121,6 +148,7 @@ public:
     const ProjectorGeometry& geometry() const;
     const TransferFunction& transfer_function() const { return transfer_; } // in the field's units
     std::size_t gpu_bytes() const { return bytes_; }
+    ProjectorMemory memory() const;
 
     // A program of the projector's shader library (projector_interface.glsl included), linked
     // once per context and shared with every other renderer in it. The mesh's programs get
@@ -163,6 +191,11 @@ public:
     // target of the viewport's size at the origin (the pass's own; the viewport's position
     // matters to the resolve and the scene depth only).
     void set_view_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport) const;
+    // The pixels of a target of the viewport's size (at the origin) the mesh can cover in
+    // `camera`'s view, as (x, y, width, height): its bounding box's projection, a pixel wider,
+    // clamped; the whole target where the box crosses the near plane, (0, 0, 0, 0) when it lies
+    // off screen or before the near plane. The frame's clear and resolve are cut to it (CellRenderer::render).
+    glm::ivec4 screen_rect(const Camera& camera, const Viewport& viewport) const;
     // Sets project.glsl's scene-depth uniforms on `program`, the variant for `scene_depth`
     // (CellRenderOptions::scene_depth; 0: none).
     void set_scene_depth_uniforms(const gl::Program& program, const Camera& camera, const Viewport& viewport,
@@ -184,8 +217,9 @@ public:
     static void append_cap_vertices(const NearCaps& caps, const ProjectedCells& projected, std::size_t k,
                                     std::vector<glm::uvec4>& out);
     // Uploads `data` into the per-frame storage buffer (grown as needed, never shrunk) and
-    // binds it at BINDING_FRAME.
+    // binds it at BINDING_FRAME; bind_frame() binds it again.
     void upload_frame(const std::vector<glm::uvec4>& data);
+    void bind_frame() const;
 
     // ---- unique faces (mip) -------------------------------------------------------------------
     // Each face shared by two cells once, boundary faces once: point ids per triangle (made on
@@ -217,6 +251,8 @@ private:
     // no cell is cut at its far plane: a perspective view's far at infinity, an orthographic
     // one's at `ortho_far`; the near plane at `near` (ProjectorView::near_distance).
     static glm::dmat4 raster_projection(const Camera& camera, double near, double aspect, double ortho_far);
+    // raster_projection · the view, for the viewport's aspect (and its orthographic far plane).
+    glm::dmat4 raster_view_projection(const Camera& camera, const Viewport& viewport, double* ortho_far) const;
 
     std::shared_ptr<gl::ProgramCache> programs_;
     CellMesh mesh_;
@@ -227,6 +263,7 @@ private:
     TransferFunction source_tf_; // as given: normalized ones are rescaled when the field changes
     TransferFunction transfer_;  // as in use
     int vertices_per_cell_ = 8;
+    double planar_tolerance_ = kPlanarTolerance;
     mutable std::vector<std::uint32_t> cell_triangle_vertices_;
     mutable std::vector<std::uint32_t> untriangulated_; // cells whose CPU triangles are stale
     mutable std::vector<std::uint8_t> triangles_stale_; // per cell: in untriangulated_

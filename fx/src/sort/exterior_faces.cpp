@@ -97,7 +97,11 @@ int clip_polygon(const Projection& p, const Projection& q, double* ox, double* o
 
 } // namespace
 
-ExteriorFaces::ExteriorFaces(const CellMesh& mesh, const FaceTopology& topology) : mesh_(mesh) {
+ExteriorFaces::ExteriorFaces(const CellMesh& mesh, const FaceTopology& topology) { build(mesh, topology); }
+
+void ExteriorFaces::build(const CellMesh& mesh, const FaceTopology& topology) {
+    mesh_ = &mesh;
+    triangles_.clear();
     for (std::uint32_t slot : topology.boundary_faces) {
         const std::uint32_t c = topology.slot_cell[slot];
         const CellType type = mesh.cell_types[c];
@@ -130,13 +134,13 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
     std::vector<Projection>& back = back_;
     front.clear(), back.clear();
     for (const Triangle& tri : triangles_) {
-        const glm::dvec3 a = mesh_.points[tri.v[0]];
-        const glm::dvec3 normal = glm::cross(mesh_.points[tri.v[1]] - a, mesh_.points[tri.v[2]] - a);
+        const glm::dvec3 a = mesh_->points[tri.v[0]];
+        const glm::dvec3 normal = glm::cross(mesh_->points[tri.v[1]] - a, mesh_->points[tri.v[2]] - a);
         const double side = ortho ? -glm::dot(normal, f) : glm::dot(normal, camera.eye - a);
         if (side == 0.0) continue; // edge-on: covers no area
         glm::dvec3 q[3];
         for (int i = 0; i < 3; ++i) {
-            const glm::dvec3 d = mesh_.points[tri.v[i]] - camera.eye;
+            const glm::dvec3 d = mesh_->points[tri.v[i]] - camera.eye;
             q[i] = glm::dvec3(glm::dot(d, r), glm::dot(d, u), glm::dot(d, f));
         }
         glm::dvec3 clipped[4];
@@ -183,8 +187,8 @@ void ExteriorFaces::edges(const Camera& camera, ExteriorEdges& out, SortStats& s
                            double area) {
         const Triangle& tg = triangles_[g.triangle];
         const Triangle& th = triangles_[h.triangle];
-        const glm::dvec3 vg[3] = {mesh_.points[tg.v[0]], mesh_.points[tg.v[1]], mesh_.points[tg.v[2]]};
-        const glm::dvec3 vh[3] = {mesh_.points[th.v[0]], mesh_.points[th.v[1]], mesh_.points[th.v[2]]};
+        const glm::dvec3 vg[3] = {mesh_->points[tg.v[0]], mesh_->points[tg.v[1]], mesh_->points[tg.v[2]]};
+        const glm::dvec3 vh[3] = {mesh_->points[th.v[0]], mesh_->points[th.v[1]], mesh_->points[th.v[2]]};
         const glm::dvec3 ng = glm::normalize(glm::cross(vg[1] - vg[0], vg[2] - vg[0]));
         const glm::dvec3 nh = glm::normalize(glm::cross(vh[1] - vh[0], vh[2] - vh[0]));
         double size = 0.0;

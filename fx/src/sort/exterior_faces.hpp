@@ -34,6 +34,8 @@ class ExteriorFaces {
 public:
     // Keeps a reference to the mesh (its points are read per view).
     ExteriorFaces(const CellMesh& mesh, const FaceTopology& topology);
+    // The same for another mesh (or this one changed), reusing the storage.
+    void build(const CellMesh& mesh, const FaceTopology& topology);
 
     // The exterior edges for this view. Fills stats' exterior_* counters and adds to
     // seconds_keys and working_bytes. Not to be called from two threads at once (it reuses
@@ -48,7 +50,7 @@ private:
         std::uint32_t v[3]; // outward winding (counter-clockwise seen from outside the cell)
         std::uint32_t cell;
     };
-    const CellMesh& mesh_;
+    const CellMesh* mesh_ = nullptr;
     std::vector<Triangle> triangles_;
     // Per-view scratch.
     mutable std::vector<ExteriorProjection> front_, back_;

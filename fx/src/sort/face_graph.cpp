@@ -96,7 +96,14 @@ std::size_t ExteriorEdges::memory_bytes() const {
            (targets.capacity() + target_first.capacity()) * sizeof(std::uint32_t);
 }
 
-FaceGraph::FaceGraph(const CellMesh& mesh, const FaceTopology& topology) {
+FaceGraph::FaceGraph(const CellMesh& mesh, const FaceTopology& topology) { build(mesh, topology); }
+
+void FaceGraph::build(const CellMesh& mesh, const FaceTopology& topology) {
+    cells_ = 0;
+    stride_ = 0;
+    first_slot_.clear();
+    neighbour_.clear();
+    planes_.clear();
     if (mesh.cell_count() >= kMaxCells) {
         throw Error("visibility sort: " + std::to_string(mesh.cell_count()) + " cells; mpvo and xmpvo take at most " +
                     std::to_string(kMaxCells - 1));
@@ -107,11 +114,11 @@ FaceGraph::FaceGraph(const CellMesh& mesh, const FaceTopology& topology) {
     if (uniform) {
         stride_ = static_cast<std::uint32_t>(cell_face_count(mesh.cell_types[0]));
     } else {
-        first_slot_ = topology.first_face;
+        assign_range_kept(first_slot_, topology.first_face.begin(), topology.first_face.end());
     }
 
     const std::size_t slots = topology.face_slot_count();
-    neighbour_.assign(slots, kBoundary);
+    assign_kept(neighbour_, slots, kBoundary);
     std::size_t owned = 0;
     for (std::uint32_t c = 0; c < cells_; ++c) {
         for (std::uint32_t s = topology.first_face[c]; s < topology.first_face[c + 1]; ++s) {
@@ -125,8 +132,8 @@ FaceGraph::FaceGraph(const CellMesh& mesh, const FaceTopology& topology) {
     }
 
     const Bounds bounds = mesh_bounds(mesh);
-    if (!bounds.empty()) origin_ = bounds.center();
-    planes_.reserve(owned);
+    origin_ = bounds.empty() ? glm::dvec3(0.0) : bounds.center();
+    reserve_kept(planes_, owned);
     for (std::uint32_t c = 0; c < cells_; ++c) {
         const CellType type = mesh.cell_types[c];
         const CellFace* faces = cell_faces(type);

@@ -45,6 +45,9 @@ public:
 
     // Throws fx::Error for more than kMaxCells cells. Vertex indices must be in range.
     FaceGraph(const CellMesh& mesh, const FaceTopology& topology);
+    // The same for another mesh (or this one changed), reusing the storage: no allocation for a
+    // mesh no larger than one built before. Throws like the constructor (the graph is then empty).
+    void build(const CellMesh& mesh, const FaceTopology& topology);
 
     // The topological sort for this view; `exterior` may be null. Not to be called from two
     // threads at once (it reuses scratch). Fills stats' seconds_keys,

@@ -60,16 +60,18 @@ glm::dvec4 power_sphere(const CellMesh& mesh, std::size_t c, const glm::dvec3& o
 
 } // namespace
 
-KeySort::KeySort(const CellMesh& mesh, Kind kind) : kind_(kind) {
+KeySort::KeySort(const CellMesh& mesh, Kind kind) : kind_(kind) { build(mesh); }
+
+void KeySort::build(const CellMesh& mesh) {
     const std::size_t n = mesh.cell_count();
-    if (kind == Kind::Centroid) {
-        centroids_.resize(n);
+    if (kind_ == Kind::Centroid) {
+        resize_kept(centroids_, n);
         for (std::size_t c = 0; c < n; ++c) centroids_[c] = vertex_centroid(mesh, c);
         return;
     }
     const Bounds bounds = mesh_bounds(mesh);
-    if (!bounds.empty()) origin_ = bounds.center();
-    spheres_.resize(n);
+    origin_ = bounds.empty() ? glm::dvec3(0.0) : bounds.center();
+    resize_kept(spheres_, n);
     for (std::size_t c = 0; c < n; ++c) spheres_[c] = power_sphere(mesh, c, origin_);
 }
 

@@ -23,6 +23,8 @@ public:
     enum class Kind { Centroid, Power };
     // Vertex indices must be in range (VisibilitySort checks them first).
     KeySort(const CellMesh& mesh, Kind kind);
+    // The same for another mesh (or this one changed), reusing the storage.
+    void build(const CellMesh& mesh);
 
     // Every cell once, largest key (farthest) first; ties by ascending index.
     void sort(const Camera& camera, std::vector<std::uint32_t>& back_to_front, SortStats& stats) const;

@@ -67,6 +67,10 @@ const std::vector<SortMethod>& all_sort_methods() {
 struct sort_detail::Scratch {
     std::mutex turn;
     ExteriorEdges exterior_edges; // xmpvo: this view's edges
+    // mpvo, xmpvo: the face topology of the last rebuild() and its working storage, kept for the
+    // next one (the constructor's is dropped: a mesh sorted as it is does not pay for it).
+    FaceTopology topology;
+    FaceTopologyScratch topology_scratch;
 };
 
 VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method)
@@ -91,6 +95,29 @@ VisibilitySort::VisibilitySort(const CellMesh& mesh, SortMethod method)
     setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void VisibilitySort::rebuild(const CellMesh& mesh) {
+    check_vertex_indices(mesh);
+    const bool graph = method_ == SortMethod::Mpvo || method_ == SortMethod::Xmpvo;
+    if (graph && mesh.cell_count() >= sort_detail::FaceGraph::kMaxCells) {
+        *this = VisibilitySort(mesh, method_); // throws the constructor's error
+        return;
+    }
+    const auto unshared = [](const auto& p) { return !p || p.use_count() == 1; };
+    if (!unshared(keys_) || !unshared(graph_) || !unshared(exterior_) || !unshared(scratch_)) {
+        *this = VisibilitySort(mesh, method_); // a copy keeps the old state
+        return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    if (keys_) {
+        keys_->build(mesh);
+    } else {
+        build_face_topology(mesh, scratch_->topology, scratch_->topology_scratch);
+        graph_->build(mesh, scratch_->topology);
+        if (exterior_) exterior_->build(mesh, scratch_->topology);
+    }
+    setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 void VisibilitySort::sort(const Camera& camera, std::vector<std::uint32_t>& back_to_front, SortStats* stats) const {
     const std::lock_guard<std::mutex> turn(scratch_->turn);
     const auto t0 = std::chrono::steady_clock::now();
@@ -111,6 +138,10 @@ std::size_t VisibilitySort::memory_bytes() const {
     if (keys_) bytes += keys_->memory_bytes();
     if (graph_) bytes += graph_->memory_bytes();
     if (exterior_) bytes += exterior_->memory_bytes();
+    const FaceTopologyScratch& kept = scratch_->topology_scratch;
+    bytes += scratch_->topology.memory_bytes() +
+             (kept.keys.capacity() + kept.grouped.capacity()) * sizeof(FaceTopologyScratch::Key) +
+             (kept.bucket_start.capacity() + kept.fill.capacity()) * sizeof(std::uint32_t);
     return bytes;
 }
 

@@ -122,6 +122,10 @@ struct FrameStats {
 // its samples, so nothing behind the game's geometry shows on its edge pixels). GL's default
 // depth range [0, 1] is assumed. cellfx turns it into its own depth once per frame
 // (DepthNormalizer) and draws under GL's default clip control whatever the game has set.
+// render() looks at the GL state it is called under: a depth test of GL_GREATER / GL_GEQUAL with
+// glClipControl's GL_ZERO_TO_ONE is reversed-Z, and without `reversed` it throws, saying what to
+// set (read the wrong way round, the game's depth would hide almost every effect). Any other
+// state is taken at this struct's word.
 struct DepthConvention {
     bool reversed = false;
     double near_distance = 0.0; // 0: the camera's

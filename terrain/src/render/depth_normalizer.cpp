@@ -76,6 +76,19 @@ glm::dvec2 depth_map(const DepthConvention& c, const fx::Camera& camera) {
     return {canonical.x - scale * game.x, scale};
 }
 
+void check_depth_state(const DepthConvention& convention) {
+    GLint func = GL_LESS, clip = GL_NEGATIVE_ONE_TO_ONE;
+    glGetIntegerv(GL_DEPTH_FUNC, &func);
+    glGetIntegerv(GL_CLIP_DEPTH_MODE, &clip);
+    if (!convention.reversed && (func == GL_GREATER || func == GL_GEQUAL) && clip == GL_ZERO_TO_ONE)
+        throw fx::Error(std::string("cellfx render: the game draws reversed-Z (glDepthFunc ") +
+                            (func == GL_GREATER ? "GL_GREATER" : "GL_GEQUAL") +
+                        ", glClipControl GL_ZERO_TO_ONE) but target.depth.reversed is false: set "
+                        "target.depth.reversed = true (and target.depth.near_distance / far_distance where the "
+                        "projection's planes are not the camera's); read as standard depth, the game's depth would "
+                        "hide almost every effect");
+}
+
 DepthNormalizer::DepthNormalizer() {
     single_ = terrain_shaders().link({"fullscreen.vert", "scene_depth_normalize.frag"});
     multi_ = terrain_shaders().link({"fullscreen.vert", "scene_depth_normalize.frag"}, fx::gl::Defines{{"MULTISAMPLE", "1"}});

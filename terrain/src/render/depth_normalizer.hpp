@@ -24,6 +24,15 @@ namespace cellfx::terrain {
 // (planes not 0 < near < far, an infinite far plane for an orthographic camera).
 glm::dvec2 depth_map(const DepthConvention& convention, const fx::Camera& camera);
 
+// Refuses `convention` when the game's GL state, as render() finds it, is reversed-Z's — a depth
+// test of GL_GREATER or GL_GEQUAL with glClipControl's GL_ZERO_TO_ONE — while
+// `convention.reversed` is false: read as standard depth, the game's depth would put everything
+// in front of the effects, an almost blank frame. Throws
+// fx::Error saying what to set. Any other state is taken at the convention's word: a
+// reversed-Z game may reset its GL state before render(), and GL_LESS with GL_ZERO_TO_ONE is a
+// standard set-up too.
+void check_depth_state(const DepthConvention& convention);
+
 class DepthNormalizer {
 public:
     DepthNormalizer(); // a GL 4.5 context current

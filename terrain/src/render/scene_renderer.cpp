@@ -765,6 +765,7 @@ fx::TransferFunction drawn_transfer_function(const fx::TransferFunction& tf, dou
 
 const FrameStats& SceneRenderer::render(const Target& target) {
     const GLuint fb = target.framebuffer;
+    if (target.depth_texture != 0) check_depth_state(target.depth); // before any GL state changes
     impl_->draw(Impl::Mode::OverHost, fb, target.viewport, target.depth_texture, target.depth, false);
     return impl_->stats;
 }

@@ -1,4 +1,4 @@
-// cellfx — private helpers shared by the mesh readers and writers: whole-file reading, byte
+// cellfx — helpers shared by the mesh readers and writers: whole-file reading, byte
 // order, and a bounds-checked scanner for whitespace-separated text.
 //
 // Every failure is an fx::Error whose message starts with the file name and the place
