@@ -1,6 +1,6 @@
 #version 450 core
 // Based on: Max, Williams & Silva 2000, §II — classic Absorption: the polygons of the CPU's
-// projected subdivisions (fx/include/fx/absorption_classic.hpp), indexed triangles of their
+// projected subdivisions (fx/src/absorption/absorption_classic.hpp), indexed triangles of their
 // vertices as vertex attributes (fx::ClassicVertex). Interpolation is linear on screen, as on
 // the paper's hardware: exact for orthographic views, an approximation under perspective (§II).
 //   location 0  position_uv = (NDC x, NDC y, u, v)

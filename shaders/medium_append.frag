@@ -1,6 +1,6 @@
 #version 450 core
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2 (a pixel's crossings of every grid) — the
-// medium compositor's append pass (fx/medium_compositor.hpp): drawn on the BACK faces of every
+// medium compositor's append pass (fx/internal/medium/medium_compositor.hpp): drawn on the BACK faces of every
 // cell of one volume (the renderer's GL projector: cells.vert, its buffers and uniforms) into the compositor's own
 // framebuffer (viewport pixels). Each fragment finds its ray's exact segment in the cell
 // (cell_segment.glsl: entry through the cell's planes, near plane, scene depth) and pushes it

@@ -1,4 +1,4 @@
-// The medium compositor's per-pixel lists of ray segments (fx/medium_compositor.hpp), shared by
+// The medium compositor's per-pixel lists of ray segments (fx/internal/medium/medium_compositor.hpp), shared by
 // medium_append.frag and medium_resolve.frag. One storage buffer at binding 3:
 //   medium_count          segments appended this frame (may exceed the pool: overflow)
 //   medium_data[0 .. n)   one list head per pixel of the region (row by row, viewport pixels): 0 = empty,

@@ -1,6 +1,6 @@
 #version 450 core
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §2.4 (integrate between consecutive
-// crossings, front to back) — the medium compositor's resolve (fx/medium_compositor.hpp): per
+// crossings, front to back) — the medium compositor's resolve (fx/internal/medium/medium_compositor.hpp): per
 // pixel of the mask, the segments of every volume swept in depth order; each span between
 // consecutive boundaries is integrated through the media inside it with fx/medium.hpp's model
 // (emission tables per volume, mixing, pieces of bounded optical depth, single scattering of

@@ -1,5 +1,5 @@
 #version 450 core
-// The samples' own opaque geometry (samples/common/box_renderer.cpp): boxes in world space.
+// The samples' own opaque geometry (samples/common/sample_gl.cpp): boxes in world space.
 
 layout(location = 0) in vec3 a_position; // unit cube corner, [-0.5, 0.5]^3
 layout(location = 1) in vec3 a_normal;

@@ -1,5 +1,5 @@
 #version 450 core
-// The samples' frame-stats line (samples/common/text_overlay.cpp): stb_easy_font quads in pixels
+// The samples' frame-stats line (samples/common/sample_gl.cpp): stb_easy_font quads in pixels
 // with the origin at the top left of the viewport, scaled, to clip space.
 
 layout(location = 0) in vec2 a_position; // pixels, y down

@@ -1,6 +1,6 @@
 // cellfx — the classic Absorption flavour's CPU half: cells in visibility order become the
 // polygons the GPU composites back to front, with 2-D opacity-table coordinates and the
-// corrected colour at every vertex. No GL here (the GL half: fx/src/absorption/absorption_pass).
+// corrected colour at every vertex. No GL here (the GL half: fx/src/passes/absorption_pass).
 //
 // Based on: Max, Williams & Silva 2000, §II (opacity 1 − exp(−l·τ) through a 2-D texture with
 // u ∝ thickness l and v ∝ the mean extinction τ_a = (τ_f + τ_b)/2; the colour computed

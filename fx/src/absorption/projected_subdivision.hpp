@@ -1,7 +1,7 @@
 // cellfx — the projected subdivision of one convex cell: the classic Absorption path's geometry.
 //
 // Based on: Max, Williams & Silva 2000, §II (polyhedron projection), after Shirley & Tuchman
-// 1990 (the projected tetrahedron). No GL here: the GL half is fx/src/absorption/absorption_pass.
+// 1990 (the projected tetrahedron). No GL here: the GL half is fx/src/passes/absorption_pass.
 //
 // The projected edges of a convex polyhedron cut the image plane into convex polygons, each
 // lying in the projection of exactly one front face and one back face, so that the ray
