@@ -14,6 +14,7 @@ packages=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # headless OpenGL 4.5 (EGL, Mesa llvmpipe)
   libepoxy-dev libglfw3-dev libglm-dev libstb-dev     # GL loader, windows, maths, images
   nlohmann-json3-dev catch2 libbenchmark-dev          # JSON, tests, micro-benchmarks
+  libimgui-dev                                        # the samples' tuning panel (Dear ImGui; samples only)
   xvfb xauth                                          # a real GLFW window in tests, without a display
   gnuplot-nox                                         # cellfx bench accuracy: the time-against-error plot
 )

@@ -1,9 +1,11 @@
 // Input of the samples' frame loop without a window: FlightCamera's mouse look and flight, and
 // the key bindings — the same FrameLoop calls run_sample's GLFW callbacks make (key codes are
-// the loop's own, independent of GLFW), checked on the campfire sample's content headless.
+// the loop's own, independent of GLFW), checked on the campfire sample's content headless —
+// and the panel's keys (R, Ctrl+S, Tab) and the view's controls.
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -13,6 +15,8 @@
 
 #include "frame_loop.hpp"
 #include "gl_fixture.hpp"
+#include "panel.hpp"
+#include "terrain/scene.hpp"
 #include "sample.hpp"
 #include "sample_gl.hpp"
 #include "cellfx_names.hpp"
@@ -147,5 +151,69 @@ TEST_CASE("sample keys: 1-5 pick the path, F-keys toggle effects, P pauses, mous
         CHECK_FALSE(loop.key(cellfx_samples::kKeyEscape));
         fx_test::require_no_gl_error();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+}
+
+TEST_CASE("sample panel keys and controls: R checks the accuracy in the background, Ctrl+S saves, the view's controls",
+          "[samples][gl]") {
+    fx_test::gl_context();
+    constexpr int w = 64, h = 48;
+    cellfx_samples::SampleOptions options;
+    options.headless = true;
+    options.width = w, options.height = h;
+    options.overlay = false;
+    options.save = fx_test::output_path("sample_input_saved.json");
+    std::filesystem::remove(options.save);
+    const std::unique_ptr<cellfx_samples::SampleContent> content = cellfx_samples::find_sample("campfire").make(options);
+    const cellfx_samples::OffscreenFramebuffer target(w, h);
+    FrameLoop loop(*content, options, "campfire");
+    loop.set_panel(cellfx_samples::make_panel(nullptr)); // nullptr without ImGui: the keys work the same
+    const auto frame = [&] { loop.frame(target.id(), w, h, 0.1); };
+    frame();
+
+    // R: the next frame starts the check (at the panel's size, or full size without one); the
+    // frames go on while it runs; its result is the frame's error against the reference.
+    CHECK(loop.key('R'));
+    frame(); // starts it
+    frame(); // and goes on, whether it is done or not
+    loop.wait_for_accuracy();
+    REQUIRE(loop.accuracy_results() == 1);
+    const cellfx_samples::AccuracyResult& r = *loop.accuracy_result();
+    const int expected_width = loop.has_panel() ? w / 2 : w; // the panel's default: half size
+    CHECK(r.width == expected_width);
+    CHECK(r.finite);
+    CHECK(r.peak > 0.0);
+    CHECK(r.max_abs >= r.rmse);
+    CHECK(r.worst_percent() < 10.0); // pcp-exact against the reference: a few % at the worst pixel
+
+    // The view's controls, as --set and the panel set them.
+    loop.apply_setting("view.time=2.5");
+    CHECK(content->time() == 2.5);
+    loop.apply_setting("view.pause=true");
+    frame();
+    CHECK(content->time() == 2.5);
+    loop.apply_setting("view.pause=false");
+    loop.apply_setting("view.time_scale=2");
+    frame();
+    CHECK(content->time() == Approx(2.7));
+    loop.apply_setting("fire.enabled=false");
+    CHECK_FALSE(content->toggled(0));
+    CHECK_THROWS_WITH(loop.apply_setting("view.time_scale=-1"), Catch::Contains("time_scale must be in [0, 100]"));
+
+    // Ctrl+S: the tuned scene, which reads back with the fire off.
+    loop.key(cellfx_samples::kKeySave);
+    REQUIRE(std::filesystem::exists(options.save));
+    const terrain::Scene saved = terrain::load_scene(options.save);
+    REQUIRE(saved.effects.size() == 1);
+    CHECK_FALSE(saved.effects[0].enabled);
+    CHECK(loop.message().find("saved the tuned scene") != std::string::npos);
+
+    // Tab hides and shows the panel.
+    if (loop.has_panel()) {
+        CHECK(loop.panel_shown());
+        loop.key(cellfx_samples::kKeyTab);
+        CHECK_FALSE(loop.panel_shown());
+        loop.key(cellfx_samples::kKeyTab);
+        CHECK(loop.panel_shown());
     }
 }

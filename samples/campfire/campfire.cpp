@@ -10,9 +10,10 @@ SampleInfo campfire_sample() {
     SampleInfo info;
     info.usage.name = "campfire";
     info.usage.summary = "A campfire of animated 4-D noise on rough ground, the camera circling it (content/scenes/campfire.json).";
+    info.usage.options = {scene_option()};
     info.animated = true;
     info.make = [](const SampleOptions& options) -> std::unique_ptr<SampleContent> {
-        return std::make_unique<SceneContent>(terrain::load_scene(scene_path("campfire")), options);
+        return std::make_unique<SceneContent>(sample_scene(options, "campfire"), options);
     };
     return info;
 }

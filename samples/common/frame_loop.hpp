@@ -1,11 +1,15 @@
 // cellfx samples — the one frame loop the window and --headless share (see sample.hpp), the
-// fly-through camera and the key bindings.
+// fly-through camera, the key bindings, and what the tuning panel works with: the controls
+// (the content's and the view's own), the frame-time history, the accuracy check and saving.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "accuracy_check.hpp"
+#include "frame_history.hpp"
 #include "fx/image.hpp"
 #include "gl/gl_object.hpp"
 #include "sample.hpp"
@@ -40,10 +44,15 @@ private:
 // upper-case ASCII codes, function keys from kKeyF1.
 constexpr int kKeyEscape = 256;
 constexpr int kKeyF1 = 0x101; // kKeyF1 + n − 1 for Fn, n ≤ 12
+constexpr int kKeyTab = 0x120;  // shows or hides the panel
+constexpr int kKeySave = 0x121; // Ctrl+S: the tuned scene to --save's file
+
+class Panel; // panel.hpp
 
 class FrameLoop {
 public:
     FrameLoop(SampleContent& content, const SampleOptions& options, const std::string& name);
+    ~FrameLoop();
 
     // One frame into `framebuffer` (0: the window's default framebuffer), width × height:
     // advances the clock by dt (0 when paused), updates the camera, simulates, clears, draws
@@ -63,10 +72,48 @@ public:
     std::string label() const;      // name, path, mode
     double last_frame_ms() const { return frame_ms_; }
     double last_wall_ms() const { return wall_ms_; }
+    double fps() const { return fps_; }
     bool free_camera() const { return flight_.has_value(); }
     const fx::Camera& camera() const { return camera_; }
+    const std::string& name() const { return name_; }
+    SampleContent& content() { return content_; }
+
+    // --- what the panel works with ----------------------------------------------------------
+    // The content's controls and the view's own group "view": pause, time, time_scale,
+    // camera_speed, gpu_timing, cpu_budget_ms, gpu_budget_ms.
+    std::vector<ControlGroup> controls() const;
+    void set_control(const std::string& group, const Control& value); // throws fx::Error, changes nothing
+    // "GROUP.NAME=VALUE" (--set): parsed against the control's kind and range, then set.
+    void apply_setting(const std::string& setting);
+    // The tuned scene to options.save (what Save and Ctrl+S do). Throws fx::Error.
+    void save();
+    const std::string& save_path() const { return options_.save; }
+    // Asks for the accuracy check of the next frame's view at `scale` × its size (1, 0.5, 0.25);
+    // it starts before that frame draws.
+    void request_accuracy(double scale) { accuracy_request_ = scale; }
+    const AccuracyCheck& accuracy() const { return accuracy_; }
+    void cancel_accuracy() { accuracy_.cancel(); }
+    void wait_for_accuracy(); // until the check started is in, its result taken (none started: returns)
+    const std::optional<AccuracyResult>& accuracy_result() const { return accuracy_result_; }
+    std::uint64_t accuracy_results() const { return accuracy_count_; } // checks finished so far
+    const FrameHistory& history() const { return history_; }
+    double cpu_budget_ms() const { return cpu_budget_ms_; }
+    double gpu_budget_ms() const { return gpu_budget_ms_; }
+    bool gpu_timing() const { return gpu_timing_; }
+    // The last message for the user (a save, a refused value, a failed check).
+    const std::string& message() const { return message_; }
+    void set_message(std::string text);
+
+    void set_panel(std::unique_ptr<Panel> panel);
+    bool has_panel() const { return panel_ != nullptr; }
+    bool panel_shown() const { return panel_ && panel_shown_; }
+    bool panel_wants_mouse() const;
+    bool panel_wants_keyboard() const;
 
 private:
+    void start_requested_accuracy(int width, int height);
+    void take_accuracy_result(); // the finished check's result or error, once
+
     SampleContent& content_;
     SampleOptions options_;
     std::string name_;
@@ -78,6 +125,18 @@ private:
     bool paused_ = false, first_ = true;
     double frame_ms_ = 0.0, wall_ms_ = 0.0, fps_ = 0.0;
     double last_frame_start_ = -1.0;
+    double time_scale_ = 1.0, camera_speed_ = 1.0;
+    double cpu_budget_ms_ = 1.0, gpu_budget_ms_ = 2.0; // what a game might allow cellfx a frame
+    bool gpu_timing_ = false;
+    FrameHistory history_;
+    FrameFigures figures_;
+    AccuracyCheck accuracy_;
+    std::optional<double> accuracy_request_;
+    std::optional<AccuracyResult> accuracy_result_;
+    std::uint64_t accuracy_count_ = 0;
+    std::string message_;
+    std::unique_ptr<Panel> panel_;
+    bool panel_shown_ = true;
 };
 
 } // namespace cellfx_samples

@@ -59,6 +59,12 @@ std::string usage_text(const SampleUsage& usage) {
         << "  --disable A,B        start with these effects switched off\n"
         << "  --no-overlay         leave out the frame-stats lines\n"
         << "  --no-props           leave out the sample's own opaque geometry\n"
+        << "  --panel / --no-panel the tuning panel (default: shown in a window, not headless; Tab toggles it)\n"
+        << "  --set G.NAME=VALUE   set a panel control at start (repeatable), e.g. --set fire.base_radius=0.8\n"
+        << "  --save FILE          where the panel's Save (Ctrl+S) writes the tuned scene file; with --frames\n"
+        << "                       also written after the last frame\n"
+        << "  --accuracy           compare the first frame's effects with the scan-line reference (in the\n"
+        << "                       background) and print the error; with --frames the run waits for it\n"
         << "  --limit NAME=N       change a resource limit (repeatable; `cellfx limits` lists them)\n";
     for (const auto& [flag, help] : usage.options) {
         std::string f = "  " + flag;
@@ -115,6 +121,19 @@ std::optional<SampleOptions> parse_options(const std::vector<std::string>& args,
             o.overlay = false;
         } else if (a == "--no-props") {
             o.props = false;
+        } else if (a == "--panel" || a == "--no-panel") {
+            o.panel = a == "--panel";
+        } else if (a == "--set") {
+            const std::string& setting = value();
+            const std::size_t dot = setting.find('.'), equals = setting.find('=');
+            if (dot == 0 || dot == std::string::npos || equals == std::string::npos || equals < dot + 2)
+                throw fx::Error("--set: expected GROUP.NAME=VALUE (e.g. fire.base_radius=0.8), got '" + setting + "'");
+            o.set.push_back(setting);
+        } else if (a == "--save") {
+            o.save = value();
+            if (o.save.empty()) throw fx::Error("--save: needs a file name");
+        } else if (a == "--accuracy") {
+            o.accuracy = true;
         } else if (a == "--limit") {
             fx::ResourceLimits limits = fx::resource_limits();
             fx::apply_limit(limits, value());

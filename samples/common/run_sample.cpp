@@ -10,6 +10,7 @@
 #include <GLFW/glfw3.h>
 
 #include "frame_loop.hpp"
+#include "panel.hpp"
 #include "fx/error.hpp"
 #include "fx/headless_context.hpp"
 #include "fx/image.hpp"
@@ -39,6 +40,17 @@ void prepare_out(const std::string& dir) {
 }
 
 void apply_start_options(SampleContent& content, const SampleOptions& options) {
+    // --save names a file for the tuned scene: refused at once where there is no scene to save.
+    if (!options.save.empty() && !content.scene_file_text("."))
+        throw fx::Error("--save: this sample shows no scene file (a mesh viewer): there is nothing to save");
+    // ... and where it cannot be written, before the tuning that would be lost.
+    if (!options.save.empty()) {
+        try {
+            fx::io::check_output_file(options.save);
+        } catch (const fx::Error& e) {
+            throw fx::Error(std::string("--save ") + e.what());
+        }
+    }
     if (options.path) content.set_path(*options.path);
     const std::vector<std::string> names = content.toggle_names();
     for (const std::string& off : options.disable) {
@@ -53,6 +65,34 @@ void apply_start_options(SampleContent& content, const SampleOptions& options) {
     }
 }
 
+// What the command line asks of the loop itself: the controls of --set (after the content's own
+// start options, in order).
+void apply_settings(FrameLoop& loop, const SampleOptions& options) {
+    for (const std::string& setting : options.set) loop.apply_setting(setting);
+}
+
+// "  | accuracy check 37%" while one runs (the frames of a --frames run say how far it is).
+std::string accuracy_note(const FrameLoop& loop) {
+    if (!loop.accuracy().running()) return "";
+    return "  | accuracy check " + std::to_string(int(100.0 * loop.accuracy().progress())) + "%";
+}
+
+// The end of a --frames run: the accuracy check waited for (before the last frame, so that it
+// shows the result) and the scene saved (after it).
+// (Waited for whether or not it still runs: one that finished unseen is taken in too.)
+void before_last_frame(FrameLoop& loop, const SampleOptions& options) {
+    if (options.accuracy) loop.wait_for_accuracy();
+}
+int after_last_frame(FrameLoop& loop, const SampleOptions& options) {
+    if (options.accuracy) loop.wait_for_accuracy(); // one frame: it started in it
+    if (!options.save.empty()) loop.save();
+    if (options.accuracy && loop.accuracy_results() == 0) {
+        std::fprintf(stderr, "%s: error: the accuracy check gave no result (%s)\n", loop.name().c_str(), loop.message().c_str());
+        return 1;
+    }
+    return 0;
+}
+
 // --headless: an EGL context and an offscreen framebuffer with the window's formats.
 int run_headless(const SampleInfo& info, const SampleOptions& options) {
     const fx::HeadlessContext context;
@@ -63,17 +103,20 @@ int run_headless(const SampleInfo& info, const SampleOptions& options) {
     prepare_out(options.out);
     const OffscreenFramebuffer fb(w, h);
     FrameLoop loop(*content, options, info.usage.name);
+    apply_settings(loop, options);
+    if (options.panel.value_or(false)) loop.set_panel(make_panel(nullptr));
     std::printf("%s: headless, %dx%d, %d frames, dt %g s, gl: %s\n", info.usage.name.c_str(), w, h, options.frames,
                 options.dt, context.description().c_str());
     for (int f = 0; f < options.frames; ++f) {
+        if (f + 1 == options.frames) before_last_frame(loop, options);
         loop.frame(fb.id(), w, h, options.dt);
         glFinish();
         if (!options.out.empty()) fx::write_png(FrameLoop::read_back(fb.id(), w, h), frame_file(options.out, f));
-        std::printf("frame %d  t %.3f s  %s\n", f, content->time(), loop.stats_text().c_str());
+        std::printf("frame %d  t %.3f s  %s%s\n", f, content->time(), loop.stats_text().c_str(), accuracy_note(loop).c_str());
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!options.out.empty()) std::printf("wrote %d frames to %s\n", options.frames, options.out.c_str());
-    return 0;
+    return after_last_frame(loop, options);
 }
 
 struct WindowInput {
@@ -82,10 +125,12 @@ struct WindowInput {
     double last_x = 0.0, last_y = 0.0;
 };
 
-int glfw_to_key(int key) {
+int glfw_to_key(int key, int mods) {
+    if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL)) return kKeySave;
     if ((key >= GLFW_KEY_0 && key <= GLFW_KEY_9) || (key >= GLFW_KEY_A && key <= GLFW_KEY_Z)) return key; // ASCII
     if (key >= GLFW_KEY_F1 && key <= GLFW_KEY_F12) return kKeyF1 + (key - GLFW_KEY_F1);
     if (key == GLFW_KEY_ESCAPE) return kKeyEscape;
+    if (key == GLFW_KEY_TAB) return kKeyTab;
     return -1;
 }
 
@@ -130,18 +175,21 @@ int run_window(const SampleInfo& info, const SampleOptions& options) {
     }
     prepare_out(options.out);
     FrameLoop loop(*content, options, info.usage.name);
+    apply_settings(loop, options);
     WindowInput input;
     input.loop = &loop;
     glfwSetWindowUserPointer(window, &input);
-    glfwSetKeyCallback(window, [](GLFWwindow* win, int key, int, int action, int) {
+    // Input the panel takes (a slider dragged, a field typed into) does not reach the loop.
+    glfwSetKeyCallback(window, [](GLFWwindow* win, int key, int, int action, int mods) {
         auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(win));
-        const int code = glfw_to_key(key);
+        const int code = glfw_to_key(key, mods);
+        if (in->loop->panel_wants_keyboard() && code != kKeyTab) return;
         if (action == GLFW_PRESS && code >= 0 && !in->loop->key(code)) in->quit = true;
     });
     glfwSetMouseButtonCallback(window, [](GLFWwindow* win, int button, int action, int) {
         auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(win));
         if (button != GLFW_MOUSE_BUTTON_LEFT) return;
-        in->dragging = action == GLFW_PRESS;
+        in->dragging = action == GLFW_PRESS && !in->loop->panel_wants_mouse();
         glfwGetCursorPos(win, &in->last_x, &in->last_y);
     });
     glfwSetCursorPosCallback(window, [](GLFWwindow* win, double x, double y) {
@@ -151,6 +199,8 @@ int run_window(const SampleInfo& info, const SampleOptions& options) {
         in->loop->look(-(x - in->last_x) * kRadiansPerPixel, -(y - in->last_y) * kRadiansPerPixel);
         in->last_x = x, in->last_y = y;
     });
+    // After the sample's callbacks: ImGui's call them after its own.
+    if (options.panel.value_or(true)) loop.set_panel(make_panel(window));
     std::fputs(loop.help().c_str(), stdout);
     std::fflush(stdout);
 
@@ -161,7 +211,8 @@ int run_window(const SampleInfo& info, const SampleOptions& options) {
         // Fixed steps for a recorded run (comparable with --headless); real time otherwise.
         const double dt = options.frames > 0 ? options.dt : std::min(now - last, 0.25);
         last = now;
-        const auto held = [&](int k) { return glfwGetKey(window, k) == GLFW_PRESS ? 1.0 : 0.0; };
+        const bool typing = loop.panel_wants_keyboard();
+        const auto held = [&](int k) { return !typing && glfwGetKey(window, k) == GLFW_PRESS ? 1.0 : 0.0; };
         const bool fast = held(GLFW_KEY_LEFT_SHIFT) + held(GLFW_KEY_RIGHT_SHIFT) > 0.0;
         loop.fly(held(GLFW_KEY_W) - held(GLFW_KEY_S), held(GLFW_KEY_D) - held(GLFW_KEY_A),
                  std::min(1.0, held(GLFW_KEY_E) + held(GLFW_KEY_SPACE)) -
@@ -169,12 +220,14 @@ int run_window(const SampleInfo& info, const SampleOptions& options) {
                  options.frames > 0 ? options.dt : dt, fast);
         int fbw = 0, fbh = 0;
         glfwGetFramebufferSize(window, &fbw, &fbh);
+        if (options.frames > 0 && frame + 1 == options.frames) before_last_frame(loop, options);
         loop.frame(0, fbw, fbh, dt);
         if (!options.out.empty()) {
             glFinish();
             fx::write_png(FrameLoop::read_back(0, fbw, fbh), frame_file(options.out, frame)); // before the swap
         }
-        if (options.frames > 0) std::printf("frame %d  t %.3f s  %s\n", frame, content->time(), loop.stats_text().c_str());
+        if (options.frames > 0)
+            std::printf("frame %d  t %.3f s  %s%s\n", frame, content->time(), loop.stats_text().c_str(), accuracy_note(loop).c_str());
         else if (now - last_print > 2.0) {
             std::printf("%s\n", loop.stats_text().c_str());
             std::fflush(stdout);
@@ -183,8 +236,10 @@ int run_window(const SampleInfo& info, const SampleOptions& options) {
         glfwSwapBuffers(window);
         if (options.frames > 0 && frame + 1 >= options.frames) break;
     }
-    content.reset(); // GL objects go while the context is current
-    return 0;
+    const int status = options.frames > 0 ? after_last_frame(loop, options) : 0;
+    loop.set_panel(nullptr); // GL objects go while the context is current
+    content.reset();
+    return status;
 }
 
 } // namespace

@@ -9,7 +9,10 @@
 // the window shows.
 //
 // A sample is a SampleContent (what to simulate and draw, which render paths and toggles it
-// offers) made by a factory from the parsed command line; run_sample() does the rest.
+// offers, the controls of its tuning panel) made by a factory from the parsed command line;
+// run_sample() does the rest. The panel (panel.hpp, Dear ImGui) is drawn by the frame loop when
+// the samples are built with ImGui; everything it changes goes through SampleContent's
+// controls, which --set reaches from the command line as well.
 //
 // Ownership: FrameLoop and the content own their GL objects; the context must be current for
 // every call and when they are destroyed. One thread.
@@ -26,7 +29,9 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
+#include "fx/effect_parameters.hpp"
 #include "fx/image.hpp"
+#include "fx/scanline_renderer.hpp"
 #include "cellfx_names.hpp"
 
 namespace cellfx_samples {
@@ -43,6 +48,10 @@ struct SampleOptions {
     bool overlay = true;              // the frame-stats line
     bool props = true;                // the sample's own opaque geometry (searchlight's drone)
     std::vector<std::string> disable; // effects switched off at start
+    std::optional<bool> panel;        // the tuning panel (default: shown in a window, not headless)
+    std::vector<std::string> set;     // "GROUP.NAME=VALUE": controls set at start (as the panel sets them)
+    std::string save;                 // scene file the panel's Save writes ("" : none); with --frames, after the last frame
+    bool accuracy = false;            // the accuracy check of the first frame (printed; the panel shows it)
     // Sample-specific: positional arguments and --name value options it declared.
     std::vector<std::string> positional;
     std::map<std::string, std::string> values;
@@ -62,6 +71,43 @@ struct SampleUsage {
 std::optional<SampleOptions> parse_options(const std::vector<std::string>& args, const SampleUsage& usage);
 std::string usage_text(const SampleUsage& usage);
 
+// One thing a user can tune: a toggle, a choice, a number or a vector, with its current value.
+// The panel draws one widget per control; --set parses its text into one (parse_control_value).
+struct Control {
+    enum class Kind { Toggle, Choice, Number, Integer, Vector, Direction };
+    std::string name;                 // "base_radius", "enabled", "path"
+    Kind kind = Kind::Number;
+    fx::ParameterRange range;         // Number, Integer, each Vector component: what the library accepts
+    std::vector<std::string> choices; // Choice
+    std::string unit;                 // "m", "ms", "degrees" ("" : none)
+    std::string note;                 // what a change costs ("rebuild", "scalars", "pose") or means
+    // The value (by kind).
+    bool toggle = false;
+    double number = 0.0; // Number, Integer
+    glm::dvec3 vector{0.0};
+    std::string choice;
+};
+struct ControlGroup {
+    std::string name;  // what --set names: "fire", "fog", "scene", "view"
+    std::string title; // "fire (campfire)"
+    std::vector<Control> controls;
+};
+// `control` with the value `text` ("0.8", "12", "1,2,3", "true"/"false"/"on"/"off", a choice's
+// name), checked against its kind and range. Throws fx::Error naming the control.
+Control parse_control_value(const Control& control, const std::string& text);
+std::string control_value_text(const Control& control); // the value as --set takes it
+
+// The effects of a frame, ready to be compared with the scan-line reference: the GPU's picture
+// of them alone (opaque, over the background; no terrain, no props) and a job that renders the
+// reference of the same volumes on another thread (it holds copies: nothing of the content).
+struct ReferenceJob {
+    fx::Image frame;          // float, alpha 1, bottom row first
+    glm::dvec3 background{0.0};
+    int passes = 1;           // scan-line frames the job renders (progress: height × passes lines)
+    std::function<fx::Image(fx::ScanlineProgress&)> reference; // premultiplied RGBA
+    std::string what;         // what is compared, one line
+};
+
 // A sample's scene: everything the frame loop needs from it. All calls with the context current.
 class SampleContent {
 public:
@@ -72,6 +118,7 @@ public:
     // The scripted camera (camera path or fixed view) at scene time t.
     virtual fx::Camera scripted_camera(double t) const = 0;
     virtual double time() const = 0;
+    virtual void set_time(double seconds) = 0; // the scene clock (the panel's slider)
     // Advances the scene clock by dt (≥ 0) and simulates the view (no drawing).
     virtual void update(double dt, const fx::Camera& camera, int width, int height) = 0;
     // Opaque geometry of the sample itself, drawn with depth test and writes into the bound
@@ -102,6 +149,28 @@ public:
     // (update: cellfx alone; render: cellfx and the GL driver's work on that thread).
     virtual double update_cpu_ms() const = 0;
     virtual double render_cpu_ms() const = 0;
+    // GPU time of the last frame per stage ("surface", "fog", "fire", ...; GL timer queries),
+    // while set_gpu_timing(true): each stage waits for its result, which costs frame rate.
+    struct StageTime {
+        std::string name;
+        double gpu_ms = 0.0;
+    };
+    virtual void set_gpu_timing(bool /*on*/) {}
+    virtual void gpu_stages(std::vector<StageTime>& out) const { out.clear(); }
+
+    // The panel's controls, grouped (current values), and the call that changes one: through
+    // the API a game would use (cellfx::Module for the scene samples). set_control throws
+    // fx::Error naming the control and what is wrong, and then changes nothing.
+    virtual std::vector<ControlGroup> controls() const { return {}; }
+    virtual void set_control(const std::string& group, const Control& value);
+    // The tuned scene as a scene file saved in the folder `save_dir` (nullopt: the content has
+    // no scene file to write).
+    virtual std::optional<std::string> scene_file_text(const std::string& /*save_dir*/) const { return std::nullopt; }
+    // The current frame's effects and their reference job (nullopt: nothing to compare) for
+    // `camera` at width × height (context current; may draw offscreen).
+    virtual std::optional<ReferenceJob> reference_job(const fx::Camera& /*camera*/, int /*width*/, int /*height*/) {
+        return std::nullopt;
+    }
 };
 
 using ContentFactory = std::function<std::unique_ptr<SampleContent>(const SampleOptions&)>;

@@ -1,6 +1,10 @@
 // cellfx samples — a scene file's effects through the embedding API (cellfx::Module), as a
 // sample's content: render paths for every effect at once, one toggle per effect (and the
-// terrain), the module's frame statistics.
+// terrain), the module's frame statistics, and the tuning panel's controls — every effect's
+// parameters (fx/effect_parameters.hpp: the ranges the library checks), on/off, path, absorb,
+// extinction scale, the resolution, the medium, the LOD's pixel error — each set through the
+// cellfx::Module call a game would make, the tuned scene saved back as a scene file, and the
+// frame's effects against the scan-line reference.
 #pragma once
 
 #include <functional>
@@ -32,6 +36,7 @@ public:
     glm::vec3 background() const override { return glm::vec3(module_.scene().background); }
     fx::Camera scripted_camera(double t) const override;
     double time() const override { return module_.time(); }
+    void set_time(double seconds) override { module_.set_time(seconds); }
     void update(double dt, const fx::Camera& camera, int width, int height) override;
     void draw_props(const fx::Camera& camera, int width, int height) override;
     void render(unsigned framebuffer, const fx::Viewport& viewport, unsigned depth_texture) override;
@@ -49,9 +54,17 @@ public:
     double render_ms() const override;
     double update_cpu_ms() const override;
     double render_cpu_ms() const override;
+    void set_gpu_timing(bool on) override;
+    void gpu_stages(std::vector<StageTime>& out) const override;
+
+    std::vector<ControlGroup> controls() const override;
+    void set_control(const std::string& group, const Control& value) override;
+    std::optional<std::string> scene_file_text(const std::string& save_dir) const override;
+    std::optional<ReferenceJob> reference_job(const fx::Camera& camera, int width, int height) override;
 
 private:
     cellfx::Module module_;
+    std::string original_text_; // the scene file as read (what scene_file_text updates)
     std::string path_label_ = "as in the scene";
     int width_ = 0, height_ = 0;
 };
@@ -63,5 +76,9 @@ fx::Camera orbit_camera(const fx::Camera& camera, double radians);
 
 // The shipped scene content/scenes/<name>.json (source tree this build came from).
 std::string scene_path(const std::string& name);
+// The scene a scene sample shows: --scene FILE, or the shipped content/scenes/<name>.json.
+terrain::Scene sample_scene(const SampleOptions& options, const std::string& name);
+// The --scene option the scene samples declare.
+std::pair<std::string, std::string> scene_option();
 
 } // namespace cellfx_samples

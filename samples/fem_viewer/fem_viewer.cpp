@@ -1,7 +1,9 @@
 // The fem_viewer sample: a finite-element mesh (any file fx::read_mesh reads: VTK legacy,
 // AVS UCD, PLOT3D with its solution) drawn with fx::CellRenderer, a transfer function and a
 // choice of scalar field; default the NASA blunt fin shipped in content/meshes. The camera
-// orbits the mesh slowly (±20° over 30 s).
+// orbits the mesh slowly (±20° over 30 s). The panel tunes the path, the field, the transfer
+// function and its density; the accuracy check compares the frame with the scan-line reference
+// of the same mesh, field and transfer function.
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -10,12 +12,15 @@
 #include <optional>
 
 #include <epoxy/gl.h>
+#include <thread>
 
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
+#include "fx/scanline_renderer.hpp"
 #include "fx/transfer_function.hpp"
+#include "gl/gl_object.hpp"
 #include "sample.hpp"
 #include "scene_content.hpp"
 #include "cellfx_names.hpp"
@@ -87,6 +92,7 @@ public:
     glm::vec3 background() const override { return {0.06f, 0.065f, 0.08f}; }
     fx::Camera scripted_camera(double t) const override { return orbit_camera(camera_, 0.35 * std::sin(2.0 * M_PI * t / 30.0)); }
     double time() const override { return time_; }
+    void set_time(double seconds) override { time_ = seconds; }
     void update(double dt, const fx::Camera& camera, int, int) override {
         time_ += dt;
         view_ = camera;
@@ -103,6 +109,7 @@ public:
         fx::CellRenderOptions options;
         options.scene_depth = depth_texture;
         options.fog = absorb_ && path_ == fx::RenderPath::PcpExact;
+        options.timing = gpu_timing_;
         stats_ = renderer_->render(view_, viewport, path_, options);
         render_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
@@ -119,9 +126,124 @@ public:
         if (letter == 'N') field_ = (field_ + 1) % mesh_.scalars.size();
         else if (letter == 'T') tf_ = (tf_ + 1) % tfs_.size();
         else return false;
+        apply_field_and_tf();
+        return true;
+    }
+    void apply_field_and_tf() {
         renderer_->set_mesh(mesh_, mesh_.scalars[field_].name);
         renderer_->set_transfer_function(current_tf());
-        return true;
+    }
+
+    void set_gpu_timing(bool on) override { gpu_timing_ = on; }
+    void gpu_stages(std::vector<StageTime>& out) const override {
+        out.clear();
+        if (stats_.gpu_ms >= 0.0) out.push_back({"volume", stats_.gpu_ms});
+    }
+
+    std::vector<ControlGroup> controls() const override {
+        ControlGroup g{"mesh", name_, {}};
+        Control c;
+        c.name = "volume", c.kind = Control::Kind::Toggle, c.toggle = volume_;
+        g.controls.push_back(c);
+        c = Control{};
+        c.name = "path", c.kind = Control::Kind::Choice, c.choice = fx::render_path_name(path_);
+        for (fx::RenderPath p : fx::kRenderPaths) c.choices.push_back(fx::render_path_name(p));
+        g.controls.push_back(c);
+        c = Control{};
+        c.name = "absorb", c.kind = Control::Kind::Toggle, c.toggle = absorb_, c.note = "pcp-exact: emission and absorption";
+        g.controls.push_back(c);
+        c = Control{};
+        c.name = "field", c.kind = Control::Kind::Choice, c.choice = mesh_.scalars[field_].name, c.choices = field_names();
+        g.controls.push_back(c);
+        c = Control{};
+        c.name = "transfer_function", c.kind = Control::Kind::Choice, c.choice = tfs_[tf_].name, c.choices = tf_names();
+        g.controls.push_back(c);
+        c = Control{};
+        // TransferFunction::scaled_extinction takes any finite factor ≥ 0.
+        c.name = "density", c.kind = Control::Kind::Number, c.number = density_, c.range = {0.0, fx::kMaxCoordinate, false};
+        c.note = "the transfer function's extinction × this";
+        g.controls.push_back(c);
+        return {g};
+    }
+    void set_control(const std::string& group, const Control& c) override {
+        if (group != "mesh") return SampleContent::set_control(group, c); // throws: no such group
+        const auto index_of = [&](const std::vector<std::string>& names) {
+            for (std::size_t i = 0; i < names.size(); ++i)
+                if (names[i] == c.choice) return i;
+            throw fx::Error(c.name + ": no '" + c.choice + "'");
+        };
+        if (c.name == "volume") volume_ = c.toggle;
+        else if (c.name == "absorb") absorb_ = c.toggle;
+        else if (c.name == "path") {
+            if (!fx::parse_render_path(c.choice, path_)) throw fx::Error("path: unknown render path '" + c.choice + "'");
+        } else if (c.name == "field") {
+            field_ = index_of(field_names());
+            apply_field_and_tf();
+        } else if (c.name == "transfer_function") {
+            tf_ = index_of(tf_names());
+            apply_field_and_tf();
+        } else if (c.name == "density") {
+            if (!(c.number >= 0.0 && std::isfinite(c.number))) throw fx::Error("density must be ≥ 0");
+            density_ = c.number;
+            apply_field_and_tf();
+        } else {
+            SampleContent::set_control(group, c);
+        }
+    }
+    std::vector<std::string> field_names() const {
+        std::vector<std::string> names;
+        for (const fx::ScalarField& f : mesh_.scalars) names.push_back(f.name);
+        return names;
+    }
+    std::vector<std::string> tf_names() const {
+        std::vector<std::string> names;
+        for (const NamedTf& t : tfs_) names.push_back(t.name);
+        return names;
+    }
+
+    // The frame of the mesh alone in a float target over the background, and the scan-line
+    // reference of the same mesh, field, transfer function and optical model.
+    std::optional<ReferenceJob> reference_job(const fx::Camera& camera, int width, int height) override {
+        if (!volume_) return std::nullopt;
+        ReferenceJob job;
+        job.background = glm::dvec3(background());
+        job.frame = gpu_frame(camera, width, height, job.background);
+        fx::ScanlineOptions so;
+        so.model = path_ == fx::RenderPath::Mip ? fx::OpticalModel::Maximum
+                   : path_ == fx::RenderPath::Absorption || path_ == fx::RenderPath::AbsorptionExact ||
+                           (path_ == fx::RenderPath::PcpExact && absorb_)
+                       ? fx::OpticalModel::EmissionAbsorption
+                       : fx::OpticalModel::Emission;
+        const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+        so.threads = cores > 1 ? cores - 1 : 1; // one core left to the window
+        auto mesh = std::make_shared<const fx::CellMesh>(mesh_);
+        const std::string field = mesh_.scalars[field_].name;
+        const fx::TransferFunction tf = current_tf();
+        job.reference = [mesh, field, tf, so, camera, width, height](fx::ScanlineProgress& progress) {
+            fx::ScanlineOptions o = so;
+            o.progress = &progress;
+            return fx::ScanlineRenderer(*mesh).render(camera, width, height, *mesh->find_scalar(field), tf, o);
+        };
+        job.what = name_ + ", " + field + ", " + fx::render_path_name(path_);
+        return job;
+    }
+
+    fx::Image gpu_frame(const fx::Camera& camera, int width, int height, const glm::dvec3& bg) {
+        const fx::gl::Framebuffer fb = fx::gl::Framebuffer::create();
+        const fx::gl::Texture color = fx::gl::Texture::create(GL_TEXTURE_2D);
+        glTextureStorage2D(color.id(), 1, GL_RGBA32F, width, height);
+        glNamedFramebufferTexture(fb.id(), GL_COLOR_ATTACHMENT0, color.id(), 0);
+        const float clear[4] = {float(bg.r), float(bg.g), float(bg.b), 1.0f};
+        glClearNamedFramebufferfv(fb.id(), GL_COLOR, 0, clear);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fb.id());
+        fx::CellRenderOptions options; // no scene depth: nothing in front of the mesh
+        options.fog = absorb_ && path_ == fx::RenderPath::PcpExact;
+        renderer_->render(camera, fx::Viewport{0, 0, width, height}, path_, options);
+        fx::Image image(width, height);
+        glGetTextureImage(color.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(image.pixels.size() * sizeof(glm::vec4)), image.pixels.data());
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        for (glm::vec4& p : image.pixels) p.a = 1.0f;
+        return image;
     }
     std::vector<std::string> key_help() const override {
         return {"N  next scalar field   T  next transfer function   (F2 absorb: pcp-exact with absorption)"};
@@ -149,7 +271,7 @@ private:
     fx::Camera camera_, view_;
     std::optional<fx::CellRenderer> renderer_;
     fx::RenderPath path_ = fx::RenderPath::AbsorptionExact; // emission and absorption, sorted: what FEM fields need
-    bool volume_ = true, absorb_ = false;
+    bool volume_ = true, absorb_ = false, gpu_timing_ = false;
     double time_ = 0.0, render_ms_ = 0.0, cpu_ms_ = 0.0;
     fx::CellRenderStats stats_;
 };

@@ -12,9 +12,10 @@ SampleInfo night_valley_sample() {
     info.usage.name = "night_valley";
     info.usage.summary = "Valley fog at night: a campfire in the fog, smoke drifting over it, a search light sweeping "
                          "through, one medium (content/scenes/fog_valley_night.json).";
+    info.usage.options = {scene_option()};
     info.animated = true;
     info.make = [](const SampleOptions& options) -> std::unique_ptr<SampleContent> {
-        return std::make_unique<SceneContent>(terrain::load_scene(scene_path("fog_valley_night")), options);
+        return std::make_unique<SceneContent>(sample_scene(options, "fog_valley_night"), options);
     };
     return info;
 }

@@ -16,9 +16,10 @@ SampleInfo searchlight_sample() {
     SampleInfo info;
     info.usage.name = "searchlight";
     info.usage.summary = "Search lights at night; the patrol light rides a drone circling the hill (content/scenes/searchlight.json).";
+    info.usage.options = {scene_option()};
     info.animated = true;
     info.make = [](const SampleOptions& options) -> std::unique_ptr<SampleContent> {
-        auto content = std::make_unique<SceneContent>(terrain::load_scene(scene_path("searchlight")), options);
+        auto content = std::make_unique<SceneContent>(sample_scene(options, "searchlight"), options);
         content->animate = [](cellfx::Module& module, double t) {
             if (module.has_effect("patrol")) module.set_parent_transform("patrol", drone_parent_transform(t));
         };

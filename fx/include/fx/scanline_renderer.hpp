@@ -81,6 +81,7 @@
 //                                       tf, options, &stats);    // per frame
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -106,6 +107,15 @@ enum class OpticalModel {
     EmissionAbsorption, // volume density model, front to back
 };
 
+// A long frame watched and stopped from another thread (a tool's progress bar): render() adds
+// each scan line to `lines_done` as a worker finishes it (height lines a frame), and once
+// `cancel` is true its workers take no more lines and it returns early, the lines not drawn
+// left empty (the caller that cancelled discards the frame). Shared by every render() given it.
+struct ScanlineProgress {
+    std::atomic<std::uint64_t> lines_done{0};
+    std::atomic<bool> cancel{false};
+};
+
 struct ScanlineOptions {
     OpticalModel model = OpticalModel::EmissionAbsorption;
     unsigned threads = 0;           // 0: std::thread::hardware_concurrency()
@@ -119,6 +129,8 @@ struct ScanlineOptions {
     // in the absorbing ones, every span through Medium::integrate_span. EmissionAbsorption
     // model only. Not owned; must outlive render().
     const Medium* medium = nullptr;
+    // Progress and cancellation (above); not owned, must outlive render(). nullptr: none.
+    ScanlineProgress* progress = nullptr;
 };
 
 // Bytes in use during one frame, by the components of §4.3.

@@ -9,6 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "fx/effect_parameters.hpp"
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
 
@@ -16,25 +17,8 @@ namespace cellfx::fx {
 
 namespace {
 
-void check(bool ok, const char* name, const char* what) {
-    if (!ok) throw Error(std::string("campfire: ") + name + " " + what);
-}
-
 void validate(const CampfireParams& p) {
-    const glm::dvec3& x = p.position;
-    check(renderable_coordinates(x), "position", "must be finite and within ±1e18 (the coordinates cellfx renders)");
-    check(renderable_length(p.base_radius), "base_radius", "must be positive and at most 1e18");
-    check(renderable_length(p.height), "height", "must be positive and at most 1e18");
-    check(p.taper >= 0.0 && std::isfinite(p.taper), "taper", "must be ≥ 0");
-    check(p.cells_across >= 2 && p.cells_across <= 256, "cells_across", "must be in 2..256");
-    check(p.cells_up >= 1 && p.cells_up <= 256, "cells_up", "must be in 1..256");
-    check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
-    check(p.turbulence >= 0.0 && std::isfinite(p.turbulence), "turbulence", "must be ≥ 0");
-    check(p.noise_frequency > 0.0 && std::isfinite(p.noise_frequency), "noise_frequency", "must be positive");
-    check(p.noise_stretch > 0.0 && std::isfinite(p.noise_stretch), "noise_stretch", "must be positive");
-    check(p.noise_octaves >= 1 && p.noise_octaves <= 8, "noise_octaves", "must be in 1..8");
-    check(std::isfinite(p.rise_speed), "rise_speed", "is not finite");
-    check(std::isfinite(p.flicker_rate), "flicker_rate", "is not finite");
+    check_parameters(p, "campfire"); // each parameter's range (effect_parameters.cpp)
     check_effect_cells(max_cells(p), "campfire: cells_across² × cells_up");
 }
 

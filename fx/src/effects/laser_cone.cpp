@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "effects/cone_mesh.hpp"
+#include "fx/effect_parameters.hpp"
 #include "fx/error.hpp"
 #include "fx/noise.hpp"
 
@@ -17,26 +18,8 @@ namespace {
 
 constexpr double kDegrees = 0.017453292519943295;
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-void check(bool ok, const char* name, const char* what) {
-    if (!ok) throw Error(std::string("laser_cone: ") + name + " " + what);
-}
-
 void validate(const LaserConeParams& p) {
-    check(renderable_coordinates(p.position), "position", "must be finite and within ±1e18 (the coordinates cellfx renders)");
-    check(finite(p.direction) && glm::length(p.direction) > 0.0, "direction", "must be finite and non-zero");
-    check(renderable_length(p.range), "range", "must be positive and at most 1e18");
-    check(renderable_length(p.radius), "radius", "must be positive and at most 1e18");
-    check(p.divergence_degrees >= 0.0 && p.divergence_degrees <= 10.0, "divergence_degrees", "must be in [0, 10]");
-    check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
-    check(p.end_fade >= 0.0 && p.end_fade <= 1.0, "end_fade", "must be in [0, 1]");
-    check(p.segments >= 3 && p.segments <= 64, "segments", "must be in 3..64");
-    check(p.slices >= 1 && p.slices <= 4096, "slices", "must be in 1..4096");
-    check(p.dust_amount >= 0.0 && p.dust_amount <= 1.0, "dust_amount", "must be in [0, 1]");
-    check(p.dust_frequency > 0.0 && std::isfinite(p.dust_frequency), "dust_frequency", "must be positive");
-    check(p.dust_octaves >= 1 && p.dust_octaves <= 8, "dust_octaves", "must be in 1..8");
-    check(finite(p.dust_drift), "dust_drift", "is not finite");
+    check_parameters(p, "laser_cone"); // each parameter's range (effect_parameters.cpp)
     check_effect_cells(max_cells(p), "laser_cone: segments × slices");
 }
 

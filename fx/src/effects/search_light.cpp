@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "effects/cone_mesh.hpp"
+#include "fx/effect_parameters.hpp"
 #include "fx/error.hpp"
 
 namespace cellfx::fx {
@@ -17,28 +18,14 @@ namespace {
 
 constexpr double kDegrees = 0.017453292519943295; // radians per degree
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 void check(bool ok, const char* name, const char* what) {
     if (!ok) throw Error(std::string("search_light: ") + name + " " + what);
 }
 
 void validate(const SearchLightParams& p) {
-    check(renderable_coordinates(p.position), "position", "must be finite and within ±1e18 (the coordinates cellfx renders)");
-    check(finite(p.direction) && glm::length(p.direction) > 0.0, "direction", "must be finite and non-zero");
-    check(renderable_length(p.range), "range", "must be positive and at most 1e18");
-    check(p.spread_degrees >= 0.0 && p.spread_degrees <= 60.0, "spread_degrees", "must be in [0, 60]");
-    check(renderable_length(p.lens_radius), "lens_radius", "must be positive and at most 1e18");
-    check(p.intensity >= 0.0 && std::isfinite(p.intensity), "intensity", "must be ≥ 0");
-    check(p.segments >= 3 && p.segments <= 256, "segments", "must be in 3..256");
-    check(p.rings >= 1 && p.rings <= 64, "rings", "must be in 1..64");
-    check(p.slices >= 1 && p.slices <= 1024, "slices", "must be in 1..1024");
+    check_parameters(p, "search_light"); // each parameter's range (effect_parameters.cpp)
     const SweepMotion& s = p.sweep;
-    check(s.amplitude_degrees >= 0.0 && s.amplitude_degrees <= 180.0, "sweep.amplitude_degrees", "must be in [0, 180]");
-    check(s.period > 0.0 && std::isfinite(s.period), "sweep.period", "must be positive");
-    check(std::isfinite(s.phase_degrees), "sweep.phase_degrees", "is not finite");
-    check(finite(s.axis) && (s.amplitude_degrees == 0.0 || glm::length(s.axis) > 0.0), "sweep.axis",
-          "must be finite and non-zero");
+    check(s.amplitude_degrees == 0.0 || glm::length(s.axis) > 0.0, "sweep.axis", "must be non-zero when the light sweeps");
     check_effect_cells(max_cells(p), "search_light: segments × rings × slices");
 }
 

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "fx/effect_parameters.hpp"
 #include "fx/error.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/noise.hpp"
@@ -20,8 +21,6 @@ namespace cellfx::fx {
 namespace {
 
 constexpr double kDegrees = 0.017453292519943295;
-
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 void check(bool ok, const std::string& name, const char* what) {
     if (!ok) throw Error("volume: " + name + " " + what);
@@ -48,16 +47,10 @@ int sphere_level(const VolumeParams& p) { return std::clamp(int(std::lround(std:
 int sphere_shells(const VolumeParams& p) { return std::max(1, cells_of(p) / 2); }
 
 void validate(const VolumeParams& p) {
-    check(finite(p.position), "position", "is not finite");
-    check(finite(p.rotation_degrees), "rotation_degrees", "is not finite");
-    check(p.density >= 0.0 && std::isfinite(p.density), "density", "must be ≥ 0");
-    check(p.edge_fade >= 0.0 && p.edge_fade <= 1.0, "edge_fade", "must be in [0, 1]");
-    check(p.cells >= 0 && p.cells <= 256, "cells", "must be in 1..256 (0: automatic)");
+    check_parameters(p, "volume"); // each parameter's range (effect_parameters.cpp)
     switch (p.shape) {
     case VolumeShape::Box:
-        check(finite(p.size) && p.size.x > 0.0 && p.size.y > 0.0 && p.size.z > 0.0, "size", "must be three positive extents");
-        break;
-    case VolumeShape::Sphere: check(p.radius > 0.0 && std::isfinite(p.radius), "radius", "must be positive"); break;
+    case VolumeShape::Sphere: break;
     case VolumeShape::Mesh: {
         check(p.mesh != nullptr && p.mesh->cell_count() > 0, "mesh", "has no cells");
         check(p.edge_fade == 0.0, "edge_fade", "applies to a box or a sphere, not a mesh");
@@ -71,13 +64,6 @@ void validate(const VolumeParams& p) {
     }
     check(p.density_mode != VolumeDensity::Field || p.shape == VolumeShape::Mesh, "density",
           "\"field\" needs a mesh shape (a box or sphere has no field)");
-    const VolumeNoise& n = p.noise;
-    check(n.frequency > 0.0 && std::isfinite(n.frequency), "noise.frequency", "must be positive");
-    check(n.octaves >= 1 && n.octaves <= 8, "noise.octaves", "must be in 1..8");
-    check(n.coverage >= 0.0 && n.coverage <= 1.0, "noise.coverage", "must be in [0, 1]");
-    check(n.contrast >= 0.0 && std::isfinite(n.contrast), "noise.contrast", "must be ≥ 0");
-    check(finite(n.drift), "noise.drift", "is not finite");
-    check(std::isfinite(n.evolve), "noise.evolve", "is not finite");
     check_effect_cells(max_cells(p), "volume: cells");
 }
 

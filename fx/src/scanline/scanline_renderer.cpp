@@ -1237,13 +1237,15 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
     // not render, so chunks are large at first and shrink as the work left does: each takes
     // 1/(2·threads) of the estimated work left, at least 2 lines (or lines_per_task each).
     const int row_end = rect.row_hi + 1;
+    // A frame watched for progress takes at most 1/32 of its lines at once, so the count moves.
+    const int progress_chunk = options.progress ? std::max(2, height / 32) : row_end;
     auto chunk_end = [&](int start) {
         if (options.lines_per_task > 0) return std::min(start + options.lines_per_task, row_end);
         const double from = work_before[static_cast<std::size_t>(start)];
         const double target = from + (work_before[static_cast<std::size_t>(row_end)] - from) / (2.0 * threads);
         const auto it = std::lower_bound(work_before.begin() + start + 1, work_before.begin() + row_end, target);
         const int end = static_cast<int>(it - work_before.begin());
-        return std::min(std::max(end, start + 2), row_end);
+        return std::min({std::max(end, start + 2), start + progress_chunk, row_end});
     };
     std::atomic<int> next_line{rect.row_lo};
     if (fb.workers.size() < threads) fb.workers.resize(threads);
@@ -1253,9 +1255,11 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
             Worker worker(ctx, fb.workers[t]);
             int start = next_line.load(std::memory_order_relaxed);
             while (start < row_end) {
+                if (options.progress && options.progress->cancel.load(std::memory_order_relaxed)) break;
                 const int end = chunk_end(start);
                 if (!next_line.compare_exchange_weak(start, end, std::memory_order_relaxed)) continue;
                 for (int y = start; y < end; ++y) worker.process_line(y);
+                if (options.progress) options.progress->lines_done.fetch_add(std::uint64_t(end - start), std::memory_order_relaxed);
                 start = next_line.load(std::memory_order_relaxed);
             }
             crossings[t] = worker.crossings;
@@ -1301,6 +1305,9 @@ Image ScanlineRenderer::render_frame(const Camera& camera, int width, int height
         std::lock_guard<std::mutex> lock(spare_mutex_);
         if (!spare_) spare_ = std::move(buffers);
     }
+    // The lines outside the rows scanned (nothing there to draw) count as done.
+    if (options.progress)
+        options.progress->lines_done.fetch_add(std::uint64_t(height - std::max(0, row_end - rect.row_lo)), std::memory_order_relaxed);
     if (stats) stats->seconds_total = seconds_since(t_start);
     return image;
 }

@@ -197,4 +197,15 @@ Scene load_scene(const std::string& path);
 // The same from text; `source` names it in messages, `base_dir` resolves relative file names.
 Scene parse_scene(std::string_view json, const std::string& source, const std::string& base_dir);
 
+// The scene file `scene` was loaded from, updated with what a program changed at run time (a
+// tuning panel's "save"): `original` is that file's text (scene.source names it), and from
+// `scene` come each effect's parameters (fx/effect_parameters.hpp), "enabled", "path", "absorb"
+// and "extinction_scale" (fog, aurora and effects, matched by name), lod.pixel_error and
+// render.fx_scale and render.medium. Every other key stays as written, and keys that still hold
+// their default stay left out; file names (height and fog maps, transfer functions, meshes)
+// are rewritten for a file saved in the folder `save_dir`. parse_scene of the result gives a
+// scene drawn like `scene`. Throws fx::Error naming the source for a scene built in code, a
+// text that is not that scene's JSON, or an effect the file does not declare (added at run time).
+std::string updated_scene_json(std::string_view original, const Scene& scene, const std::string& save_dir);
+
 } // namespace cellfx::terrain

@@ -42,41 +42,55 @@ std::size_t append_world_mesh(const fx::Effect& effect, const glm::dvec3& origin
 
 } // namespace
 
-fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera& camera, int width, int height,
-                                 unsigned threads) {
-    fx::Image image(width, height, glm::vec4(0.0f));
+SceneReferenceInput capture_scene_reference(const SceneRenderer& renderer, const fx::Camera& camera) {
     // Everything relative to the eye: the camera there, the volumes and lights moved alike.
     const glm::dvec3 origin = camera.eye;
-    const fx::Camera relative = fx::camera_in_frame(camera, glm::translate(glm::dmat4(1.0), origin));
-    fx::CellMesh medium_mesh;
-    std::vector<fx::MediumVolume> media;
-    fx::ScanlineOptions options;
-    options.threads = threads;
+    SceneReferenceInput input;
+    input.camera = fx::camera_in_frame(camera, glm::translate(glm::dmat4(1.0), origin));
     for (const SceneRenderer::DrawnVolume& v : renderer.drawn_volumes()) {
         if (v.in_medium) {
-            const std::size_t blocks = append_world_mesh(*v.effect, origin, medium_mesh);
+            const std::size_t blocks = append_world_mesh(*v.effect, origin, input.medium_mesh);
             fx::MediumVolume medium = v.medium;
             medium.light.origin -= origin;
-            media.insert(media.end(), blocks, medium);
+            input.media.insert(input.media.end(), blocks, medium);
             continue;
         }
         // pcp (emission) and mip (maximum) effects: their own model, added as the renderer adds them.
-        fx::CellMesh world;
-        append_world_mesh(*v.effect, origin, world);
+        SceneReferenceInput::Layer layer;
+        append_world_mesh(*v.effect, origin, layer.mesh);
+        layer.model = v.path == fx::RenderPath::Mip ? fx::OpticalModel::Maximum : fx::OpticalModel::Emission;
+        layer.tf = v.medium.tf;
+        input.layers.push_back(std::move(layer));
+    }
+    return input;
+}
+
+fx::Image render_scene_reference(const SceneReferenceInput& input, int width, int height, unsigned threads,
+                                 fx::ScanlineProgress* progress) {
+    fx::Image image(width, height, glm::vec4(0.0f));
+    fx::ScanlineOptions options;
+    options.threads = threads;
+    options.progress = progress;
+    for (const SceneReferenceInput::Layer& l : input.layers) {
         fx::ScanlineOptions own = options;
-        own.model = v.path == fx::RenderPath::Mip ? fx::OpticalModel::Maximum : fx::OpticalModel::Emission;
-        const fx::Image layer = fx::ScanlineRenderer(world).render(relative, width, height, world.scalars[0], v.medium.tf, own);
+        own.model = l.model;
+        const fx::Image layer = fx::ScanlineRenderer(l.mesh).render(input.camera, width, height, l.mesh.scalars[0], l.tf, own);
         for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += glm::vec4(glm::vec3(layer.pixels[i]), 0.0f);
     }
-    if (medium_mesh.cell_count() > 0) {
-        const fx::Medium medium(media);
+    if (input.medium_mesh.cell_count() > 0) {
+        const fx::Medium medium(input.media);
         options.medium = &medium;
-        const fx::Image volumes = fx::ScanlineRenderer(medium_mesh)
-                                      .render(relative, width, height, medium_mesh.scalars[0], fx::TransferFunction(), options);
+        const fx::Image volumes = fx::ScanlineRenderer(input.medium_mesh)
+                                      .render(input.camera, width, height, input.medium_mesh.scalars[0], fx::TransferFunction(), options);
         // The additive effects lie over the medium: medium first, then their light.
         for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += volumes.pixels[i];
     }
     return image;
+}
+
+fx::Image render_scene_reference(const SceneRenderer& renderer, const fx::Camera& camera, int width, int height,
+                                 unsigned threads) {
+    return render_scene_reference(capture_scene_reference(renderer, camera), width, height, threads);
 }
 
 } // namespace cellfx::terrain

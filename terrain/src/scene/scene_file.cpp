@@ -1,5 +1,5 @@
 // The scene-file loader (format: terrain/scene.hpp and docs/terrain.md). The one place that
-// reads scene JSON: later sections (effects) are added here.
+// reads scene JSON, and writes it back updated (updated_scene_json, at the end).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fx/cell_mesh.hpp"
+#include "fx/effect_parameters.hpp"
 #include "fx/error.hpp"
 #include "fx/medium.hpp"
 #include "fx/mesh_io.hpp"
@@ -682,6 +683,150 @@ Scene load_scene(const std::string& path) {
         fx::io::check_json_encoding(head, path);
     });
     return parse_scene(std::string_view(text.data(), text.size()), path, std::filesystem::path(path).parent_path().string());
+}
+
+// ---- writing a scene back: the original file with the values changed at run time ----------------
+
+namespace {
+
+using ordered_json = nlohmann::ordered_json;
+
+// `file`, a name relative to the folder `from` (as the parser resolves it), seen from `to`.
+std::string rebased(const std::string& file, const std::string& from, const std::string& to) {
+    namespace fs = std::filesystem;
+    if (fs::path(file).is_absolute()) return file;
+    const fs::path absolute = fs::absolute(fs::path(from.empty() ? "." : from) / file).lexically_normal();
+    const fs::path relative = absolute.lexically_relative(fs::absolute(to.empty() ? "." : to).lexically_normal());
+    return relative.empty() ? absolute.string() : relative.generic_string();
+}
+
+void rebase(ordered_json& object, const char* key, const std::string& from, const std::string& to) {
+    if (object.is_object() && object.contains(key) && object[key].is_string())
+        object[key] = rebased(object[key].get<std::string>(), from, to);
+}
+
+// Writes `key` when the file has it or the value is not the default (defaults stay left out).
+template <class T>
+void write(ordered_json& object, const char* key, const T& value, const T& default_value) {
+    if (object.contains(key) || !(value == default_value)) object[key] = value;
+}
+
+ordered_json vector_json(const glm::dvec3& v) { return ordered_json::array({v.x, v.y, v.z}); }
+
+// The parameters of one effect entry, by its type's table (fx/effect_parameters.hpp): keys
+// "a.b" are key b of the object a. A parameter that does not apply (a volume's size once it is
+// a sphere) is taken out.
+template <class P>
+void write_params(ordered_json& entry, const P& params) {
+    const P defaults{};
+    for (const fx::Parameter<P>& p : fx::parameter_table<P>()) {
+        const std::string name = p.name;
+        const std::size_t dot = name.find('.');
+        const std::string parent = dot == std::string::npos ? "" : name.substr(0, dot);
+        const std::string key = name.substr(dot == std::string::npos ? 0 : dot + 1);
+        if (!parent.empty() && entry.contains(parent) && !entry[parent].is_object()) entry.erase(parent);
+        ordered_json& object = parent.empty() ? entry : entry[parent];
+        const bool present = object.contains(key);
+        if (!p.applies_to(params)) {
+            if (present) object.erase(key);
+        } else if (p.vector) {
+            const glm::dvec3 v = fx::parameter_vector(p, params);
+            if (present || v != fx::parameter_vector(p, defaults)) object[key] = vector_json(v);
+        } else {
+            const double v = fx::parameter_value(p, params);
+            if (present || v != fx::parameter_value(p, defaults)) {
+                if (p.kind == fx::ParameterKind::Number) object[key] = v;
+                else object[key] = std::int64_t(v); // integers and seeds, exact
+            }
+        }
+        if (!parent.empty() && object.is_object() && object.empty()) entry.erase(parent);
+        else if (!parent.empty() && object.is_null()) entry.erase(parent);
+    }
+}
+
+void write_effect(ordered_json& entry, const EffectSpec& e, const std::string& where) {
+    const std::string type = effect_type_name(e.params);
+    if (entry.value("type", std::string()) != type) {
+        // Another type (set_params with another kind of effect): only the keys every effect has stay.
+        ordered_json kept = ordered_json::object();
+        for (const char* key : {"name", "enabled", "path", "absorb", "albedo", "light", "transfer_function", "extinction_scale"})
+            if (entry.contains(key)) kept[key] = entry[key];
+        entry = std::move(kept);
+        entry["type"] = type;
+    }
+    write(entry, "enabled", e.enabled, true);
+    write(entry, "path", std::string(fx::render_path_name(e.path)), std::string(fx::render_path_name(fx::RenderPath::PcpExact)));
+    write(entry, "absorb", e.absorb, type == "volume");
+    write(entry, "extinction_scale", e.extinction_scale, 1.0);
+    if (const auto* volume = std::get_if<fx::VolumeParams>(&e.params)) {
+        if (volume->shape == fx::VolumeShape::Mesh && !entry.contains("mesh"))
+            throw fx::Error(where + ": a volume whose mesh was built in code has no file to name");
+        if (volume->shape != fx::VolumeShape::Mesh) entry["shape"] = fx::volume_shape_name(volume->shape);
+        // Always said: the parser would otherwise infer it from whether a "noise" object is there.
+        entry["density_mode"] = fx::volume_density_name(volume->density_mode);
+    }
+    std::visit([&](const auto& params) { write_params(entry, params); }, e.params);
+}
+
+} // namespace
+
+std::string updated_scene_json(std::string_view original, const Scene& scene, const std::string& save_dir) {
+    if (scene.source.empty()) throw fx::Error("scene: a scene built in code has no file to update");
+    const std::string& source = scene.source;
+    ordered_json doc;
+    try {
+        doc = ordered_json::parse(original.begin(), original.end());
+    } catch (const nlohmann::json::exception& e) {
+        throw fx::Error(source + ": not a scene's JSON: " + e.what());
+    }
+    if (!doc.is_object()) throw fx::Error(source + ": not a scene's JSON: expected an object");
+    const std::string from = std::filesystem::path(source).parent_path().string();
+
+    // Files, named for the new folder.
+    if (doc.contains("terrain")) rebase(doc["terrain"], "height_map", from, save_dir);
+    if (doc.contains("fog") && doc["fog"].contains("thickness_map")) rebase(doc["fog"]["thickness_map"], "file", from, save_dir);
+    for (const char* section : {"fog", "aurora"})
+        if (doc.contains(section)) rebase(doc[section], "transfer_function", from, save_dir);
+    if (doc.contains("effects") && doc["effects"].is_array())
+        for (ordered_json& entry : doc["effects"])
+            for (const char* key : {"transfer_function", "mesh", "q_file"}) rebase(entry, key, from, save_dir);
+
+    // The run-time choices.
+    const std::string pcp_exact = fx::render_path_name(fx::RenderPath::PcpExact);
+    if (scene.fog && doc.contains("fog")) {
+        ordered_json& f = doc["fog"];
+        write(f, "enabled", scene.fog->enabled, true);
+        write(f, "path", std::string(fx::render_path_name(scene.fog->path)), pcp_exact);
+        write(f, "absorb", scene.fog->absorb, true);
+        write(f, "extinction_scale", scene.fog->extinction_scale, 1.0);
+    }
+    if (scene.aurora && doc.contains("aurora")) {
+        ordered_json& a = doc["aurora"];
+        write(a, "enabled", scene.aurora->enabled, true);
+        write(a, "path", std::string(fx::render_path_name(scene.aurora->path)), std::string(fx::render_path_name(fx::RenderPath::Mip)));
+        write(a, "extinction_scale", scene.aurora->extinction_scale, 1.0);
+    }
+    ordered_json effects = ordered_json::array();
+    const ordered_json written = doc.value("effects", ordered_json::array());
+    for (std::size_t i = 0; i < scene.effects.size(); ++i) {
+        const EffectSpec& e = scene.effects[i];
+        const ordered_json* found = nullptr;
+        for (const ordered_json& entry : written)
+            if (entry.is_object() && entry.value("name", entry.value("type", std::string())) == e.name) found = &entry;
+        if (!found)
+            throw fx::Error(source + ": effect '" + e.name + "' is not declared in the file (an effect added at run time cannot be saved)");
+        ordered_json entry = *found;
+        write_effect(entry, e, source + ": effect '" + e.name + "'");
+        effects.push_back(std::move(entry)); // effects removed at run time are left out
+    }
+    if (doc.contains("effects") || !effects.empty()) doc["effects"] = std::move(effects);
+    if (scene.has_terrain() && (doc.contains("lod") || scene.pixel_error != Scene().pixel_error)) doc["lod"]["pixel_error"] = scene.pixel_error;
+    if (doc.contains("render") || scene.fx_scale != 1.0 || scene.medium != fx::MediumMethod::Froxel) {
+        ordered_json& r = doc["render"];
+        write(r, "fx_scale", scene.fx_scale, 1.0);
+        write(r, "medium", std::string(fx::medium_method_name(scene.medium)), std::string(fx::medium_method_name(fx::MediumMethod::Froxel)));
+    }
+    return doc.dump(2) + "\n";
 }
 
 } // namespace cellfx::terrain

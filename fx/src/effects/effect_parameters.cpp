@@ -1,0 +1,212 @@
+// The effects' parameter tables (fx/effect_parameters.hpp): the one place each range is written.
+#include "fx/effect_parameters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "fx/error.hpp"
+
+namespace cellfx::fx {
+
+namespace {
+
+using Kind = ParameterKind;
+using Cost = ParameterCost;
+
+// Ranges by what they say.
+constexpr ParameterRange kAny{};                              // finite, within ±kMaxCoordinate
+constexpr ParameterRange kPositive{0.0, kMaxCoordinate, true}; // a length, a rate, a frequency
+constexpr ParameterRange kNonNegative{0.0, kMaxCoordinate};
+constexpr ParameterRange in(double lo, double hi) { return {lo, hi, false}; }
+
+// One entry per field: the accessors are captureless lambdas, so the tables are plain data.
+#define CELLFX_FIELD(P, field) [](P& p) { return &p.field; }
+
+template <class P>
+Parameter<P> number(const char* name, double* (*field)(P&), ParameterRange range, Cost cost, const char* unit,
+                    bool (*applies)(const P&) = nullptr) {
+    Parameter<P> p{name, Kind::Number, range, cost, unit};
+    p.number = field;
+    p.applies = applies;
+    return p;
+}
+template <class P>
+Parameter<P> integer(const char* name, int* (*field)(P&), ParameterRange range, Cost cost, const char* unit,
+                     bool (*applies)(const P&) = nullptr) {
+    Parameter<P> p{name, Kind::Integer, range, cost, unit};
+    p.integer = field;
+    p.applies = applies;
+    return p;
+}
+template <class P>
+Parameter<P> seed(const char* name, std::uint32_t* (*field)(P&), Cost cost, bool (*applies)(const P&) = nullptr) {
+    Parameter<P> p{name, Kind::Seed, in(0.0, 4294967295.0), cost, ""};
+    p.seed = field;
+    p.applies = applies;
+    return p;
+}
+template <class P>
+Parameter<P> vector(const char* name, Kind kind, glm::dvec3* (*field)(P&), ParameterRange range, Cost cost, const char* unit,
+                    bool (*applies)(const P&) = nullptr) {
+    Parameter<P> p{name, kind, range, cost, unit};
+    p.vector = field;
+    p.applies = applies;
+    return p;
+}
+
+std::string format(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
+} // namespace
+
+const char* parameter_cost_name(ParameterCost cost) {
+    switch (cost) {
+    case ParameterCost::Pose: return "pose";
+    case ParameterCost::Scalars: return "scalars";
+    case ParameterCost::Rebuild: return "rebuild";
+    }
+    return "?";
+}
+
+bool ParameterRange::contains(double v) const {
+    return std::isfinite(v) && std::abs(v) <= kMaxCoordinate && (lo_open ? v > lo : v >= lo) && v <= hi;
+}
+
+std::string ParameterRange::requirement(bool integer) const {
+    if (integer) return "must be in " + format(lo) + ".." + format(hi);
+    if (lo == 0.0 && hi == kMaxCoordinate) return lo_open ? "must be positive" : "must be ≥ 0";
+    if (lo == -kMaxCoordinate && hi == kMaxCoordinate) return "must be finite and within ±1e18";
+    return std::string("must be in ") + (lo_open ? "(" : "[") + format(lo) + ", " + format(hi) + "]";
+}
+
+void set_parameter_value(double* number, int* integer, std::uint32_t* seed, double value) {
+    if (number) *number = value;
+    if (integer) *integer = int(std::lround(std::clamp(value, -2147483648.0, 2147483647.0)));
+    if (seed) *seed = std::uint32_t(std::llround(std::clamp(value, 0.0, 4294967295.0)));
+}
+
+void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range, double value) {
+    if (range.contains(value)) return;
+    std::string what = std::abs(value) > kMaxCoordinate && std::isfinite(value)
+                           ? "must be within ±1e18 (the coordinates and sizes cellfx renders)"
+                           : range.requirement(kind == ParameterKind::Integer);
+    throw Error(std::string(effect) + ": " + name + " " + what + " (got " + format(value) + ")");
+}
+
+void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range,
+                     const glm::dvec3& value) {
+    bool finite = true, zero = true, in_range = true;
+    for (int k = 0; k < 3; ++k) {
+        finite = finite && std::isfinite(value[k]) && std::abs(value[k]) <= kMaxCoordinate;
+        zero = zero && value[k] == 0.0;
+        in_range = in_range && range.contains(value[k]);
+    }
+    const char* what = nullptr;
+    if (kind == ParameterKind::Vector && !finite) what = "must be finite and within ±1e18 (the coordinates cellfx renders)";
+    if (kind == ParameterKind::Direction && (!finite || zero)) what = "must be finite and non-zero";
+    if (kind == ParameterKind::Extents && !in_range) what = "must be three positive extents";
+    if (!what) return;
+    throw Error(std::string(effect) + ": " + name + " " + what + " (got " + format(value.x) + ", " + format(value.y) + ", " +
+                format(value.z) + ")");
+}
+
+template <>
+const std::vector<Parameter<CampfireParams>>& parameter_table<CampfireParams>() {
+    using P = CampfireParams;
+    static const std::vector<Parameter<P>> table = {
+        vector<P>("position", Kind::Vector, CELLFX_FIELD(P, position), kAny, Cost::Pose, "m"),
+        number<P>("base_radius", CELLFX_FIELD(P, base_radius), kPositive, Cost::Rebuild, "m"),
+        number<P>("height", CELLFX_FIELD(P, height), kPositive, Cost::Rebuild, "m"),
+        number<P>("taper", CELLFX_FIELD(P, taper), kNonNegative, Cost::Rebuild, ""),
+        integer<P>("cells_across", CELLFX_FIELD(P, cells_across), in(2, 256), Cost::Rebuild, "cells"),
+        integer<P>("cells_up", CELLFX_FIELD(P, cells_up), in(1, 256), Cost::Rebuild, "cells"),
+        number<P>("intensity", CELLFX_FIELD(P, intensity), kNonNegative, Cost::Scalars, ""),
+        number<P>("turbulence", CELLFX_FIELD(P, turbulence), kNonNegative, Cost::Scalars, ""),
+        number<P>("noise_frequency", CELLFX_FIELD(P, noise_frequency), kPositive, Cost::Scalars, "cycles/m"),
+        number<P>("noise_stretch", CELLFX_FIELD(P, noise_stretch), kPositive, Cost::Scalars, ""),
+        integer<P>("noise_octaves", CELLFX_FIELD(P, noise_octaves), in(1, 8), Cost::Scalars, ""),
+        number<P>("rise_speed", CELLFX_FIELD(P, rise_speed), kAny, Cost::Scalars, "m/s"),
+        number<P>("flicker_rate", CELLFX_FIELD(P, flicker_rate), kAny, Cost::Scalars, "cells/s"),
+        seed<P>("seed", CELLFX_FIELD(P, seed), Cost::Scalars),
+    };
+    return table;
+}
+
+template <>
+const std::vector<Parameter<SearchLightParams>>& parameter_table<SearchLightParams>() {
+    using P = SearchLightParams;
+    static const std::vector<Parameter<P>> table = {
+        vector<P>("position", Kind::Vector, CELLFX_FIELD(P, position), kAny, Cost::Pose, "m"),
+        vector<P>("direction", Kind::Direction, CELLFX_FIELD(P, direction), kAny, Cost::Pose, ""),
+        number<P>("range", CELLFX_FIELD(P, range), kPositive, Cost::Rebuild, "m"),
+        number<P>("spread_degrees", CELLFX_FIELD(P, spread_degrees), in(0, 60), Cost::Rebuild, "degrees"),
+        number<P>("lens_radius", CELLFX_FIELD(P, lens_radius), kPositive, Cost::Rebuild, "m"),
+        number<P>("intensity", CELLFX_FIELD(P, intensity), kNonNegative, Cost::Scalars, ""),
+        integer<P>("segments", CELLFX_FIELD(P, segments), in(3, 256), Cost::Rebuild, "cells"),
+        integer<P>("rings", CELLFX_FIELD(P, rings), in(1, 64), Cost::Rebuild, "cells"),
+        integer<P>("slices", CELLFX_FIELD(P, slices), in(1, 1024), Cost::Rebuild, "cells"),
+        // The axis may be zero while nothing sweeps (SearchLight checks it against the amplitude).
+        vector<P>("sweep.axis", Kind::Vector, CELLFX_FIELD(P, sweep.axis), kAny, Cost::Pose, ""),
+        number<P>("sweep.amplitude_degrees", CELLFX_FIELD(P, sweep.amplitude_degrees), in(0, 180), Cost::Pose, "degrees"),
+        number<P>("sweep.period", CELLFX_FIELD(P, sweep.period), kPositive, Cost::Pose, "s"),
+        number<P>("sweep.phase_degrees", CELLFX_FIELD(P, sweep.phase_degrees), kAny, Cost::Pose, "degrees"),
+    };
+    return table;
+}
+
+template <>
+const std::vector<Parameter<LaserConeParams>>& parameter_table<LaserConeParams>() {
+    using P = LaserConeParams;
+    static const std::vector<Parameter<P>> table = {
+        vector<P>("position", Kind::Vector, CELLFX_FIELD(P, position), kAny, Cost::Pose, "m"),
+        vector<P>("direction", Kind::Direction, CELLFX_FIELD(P, direction), kAny, Cost::Pose, ""),
+        number<P>("range", CELLFX_FIELD(P, range), kPositive, Cost::Rebuild, "m"),
+        number<P>("radius", CELLFX_FIELD(P, radius), kPositive, Cost::Rebuild, "m"),
+        number<P>("divergence_degrees", CELLFX_FIELD(P, divergence_degrees), in(0, 10), Cost::Rebuild, "degrees"),
+        number<P>("intensity", CELLFX_FIELD(P, intensity), kNonNegative, Cost::Scalars, ""),
+        number<P>("end_fade", CELLFX_FIELD(P, end_fade), in(0, 1), Cost::Scalars, ""),
+        integer<P>("segments", CELLFX_FIELD(P, segments), in(3, 64), Cost::Rebuild, "cells"),
+        integer<P>("slices", CELLFX_FIELD(P, slices), in(1, 4096), Cost::Rebuild, "cells"),
+        number<P>("dust_amount", CELLFX_FIELD(P, dust_amount), in(0, 1), Cost::Scalars, ""),
+        number<P>("dust_frequency", CELLFX_FIELD(P, dust_frequency), kPositive, Cost::Scalars, "cycles/m"),
+        integer<P>("dust_octaves", CELLFX_FIELD(P, dust_octaves), in(1, 8), Cost::Scalars, ""),
+        vector<P>("dust_drift", Kind::Vector, CELLFX_FIELD(P, dust_drift), kAny, Cost::Scalars, "m/s"),
+        seed<P>("seed", CELLFX_FIELD(P, seed), Cost::Scalars),
+    };
+    return table;
+}
+
+template <>
+const std::vector<Parameter<VolumeParams>>& parameter_table<VolumeParams>() {
+    using P = VolumeParams;
+    constexpr auto box = [](const P& p) { return p.shape == VolumeShape::Box; };
+    constexpr auto sphere = [](const P& p) { return p.shape == VolumeShape::Sphere; };
+    constexpr auto not_mesh = [](const P& p) { return p.shape != VolumeShape::Mesh; };
+    constexpr auto noisy = [](const P& p) { return p.density_mode == VolumeDensity::Noise; };
+    static const std::vector<Parameter<P>> table = {
+        vector<P>("position", Kind::Vector, CELLFX_FIELD(P, position), kAny, Cost::Pose, "m"),
+        vector<P>("rotation_degrees", Kind::Vector, CELLFX_FIELD(P, rotation_degrees), kAny, Cost::Pose, "degrees"),
+        vector<P>("size", Kind::Extents, CELLFX_FIELD(P, size), kPositive, Cost::Rebuild, "m", box),
+        number<P>("radius", CELLFX_FIELD(P, radius), kPositive, Cost::Rebuild, "m", sphere),
+        // 0: automatic (1 for a constant box, 16 otherwise).
+        integer<P>("cells", CELLFX_FIELD(P, cells), in(0, 256), Cost::Rebuild, "cells", not_mesh),
+        number<P>("density", CELLFX_FIELD(P, density), kNonNegative, Cost::Scalars, ""),
+        number<P>("edge_fade", CELLFX_FIELD(P, edge_fade), in(0, 1), Cost::Scalars, "", not_mesh),
+        number<P>("noise.frequency", CELLFX_FIELD(P, noise.frequency), kPositive, Cost::Scalars, "cycles/m", noisy),
+        integer<P>("noise.octaves", CELLFX_FIELD(P, noise.octaves), in(1, 8), Cost::Scalars, "", noisy),
+        number<P>("noise.coverage", CELLFX_FIELD(P, noise.coverage), in(0, 1), Cost::Scalars, "", noisy),
+        number<P>("noise.contrast", CELLFX_FIELD(P, noise.contrast), kNonNegative, Cost::Scalars, "", noisy),
+        vector<P>("noise.drift", Kind::Vector, CELLFX_FIELD(P, noise.drift), kAny, Cost::Scalars, "m/s", noisy),
+        number<P>("noise.evolve", CELLFX_FIELD(P, noise.evolve), kAny, Cost::Scalars, "cells/s", noisy),
+        seed<P>("noise.seed", CELLFX_FIELD(P, noise.seed), Cost::Scalars, noisy),
+    };
+    return table;
+}
+
+#undef CELLFX_FIELD
+
+} // namespace cellfx::fx

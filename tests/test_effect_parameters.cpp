@@ -1,0 +1,151 @@
+// The effects' parameter tables (fx/effect_parameters.hpp) are what the library accepts: for
+// every Number and Integer parameter of every effect, its range's ends are accepted and a
+// value just outside is refused — by the effect's constructor (which checks through the table)
+// and by the scene-file parser (which has checks of its own), each naming the parameter. So a
+// tool that reads the tables (the samples' panel) offers exactly the values cellfx takes.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <variant>
+
+#include "fx/effect_parameters.hpp"
+#include "fx/error.hpp"
+#include "fx/resource_limits.hpp"
+#include "terrain/scene.hpp"
+#include "test_paths.hpp"
+#include "cellfx_names.hpp"
+
+namespace {
+
+// Raises the effect-cells budget while alive: a range's end (256 cells across a box) must be
+// judged by its range, not by the budget that bounds the parameters together.
+struct GenerousBudget {
+    fx::ResourceLimits saved = fx::resource_limits();
+    GenerousBudget() {
+        fx::ResourceLimits l = saved;
+        l.effect_cells = l.scene_cells = std::uint64_t(1) << 40;
+        fx::set_resource_limits(l);
+    }
+    ~GenerousBudget() { fx::set_resource_limits(saved); }
+};
+
+std::string number_json(double v) {
+    std::ostringstream out;
+    out.precision(17);
+    out << v;
+    return out.str();
+}
+
+// The scene-file entry with `name` (maybe "a.b") set to `value`, for the parameters `params` of
+// the type `type` (a volume gets the shape the parameter applies to).
+template <class P>
+std::string entry_json(const char* type, const P& params, const std::string& name, const std::string& value) {
+    std::string entry = std::string(R"({"type": ")") + type + R"(", "transfer_function": "../transfer_functions/fire.json", )";
+    if constexpr (std::is_same_v<P, fx::VolumeParams>) {
+        entry += std::string(R"("shape": ")") + fx::volume_shape_name(params.shape) + R"(", )";
+        entry += std::string(R"("density_mode": ")") + fx::volume_density_name(params.density_mode) + R"(", )";
+    }
+    const std::size_t dot = name.find('.');
+    if (dot == std::string::npos) entry += "\"" + name + "\": " + value + "}";
+    else entry += "\"" + name.substr(0, dot) + "\": {\"" + name.substr(dot + 1) + "\": " + value + "}}";
+    return R"({"effects": [)" + entry + R"(], "camera": {"eye": [0, -5, 1], "target": [0, 0, 0.7]}})";
+}
+
+terrain::Scene parse(const std::string& text) {
+    return terrain::parse_scene(text, "fx.json", fx_test::source_path("content/scenes"));
+}
+
+// Checks one type's table against its constructor and the parser.
+template <class P>
+void check_table(const char* type) {
+    const GenerousBudget budget;
+    for (const fx::Parameter<P>& p : fx::parameter_table<P>()) {
+        P params{};
+        // The parameter in effect: a volume's radius on a sphere, its noise with noise density.
+        if constexpr (std::is_same_v<P, fx::VolumeParams>) {
+            if (std::string(p.name) == "radius") params.shape = fx::VolumeShape::Sphere;
+            if (std::string(p.name).rfind("noise.", 0) == 0) params.density_mode = fx::VolumeDensity::Noise;
+        }
+        INFO(type << "." << p.name);
+        REQUIRE(p.applies_to(params));
+        if (p.kind == fx::ParameterKind::Seed) continue; // every value of its type is valid
+        if (p.vector) {
+            // Vectors: a component beyond ±1e18 is refused (and a zero direction, a negative extent).
+            P bad = params;
+            *p.vector(bad) = glm::dvec3(2e18, 1.0, 1.0);
+            CHECK_THROWS_WITH(terrain::make_effect(bad), Catch::Contains(p.name));
+            CHECK_THROWS_WITH(parse(entry_json(type, params, p.name, "[2e18, 1, 1]")), Catch::Contains(p.name));
+            if (p.kind != fx::ParameterKind::Vector) {
+                *p.vector(bad) = p.kind == fx::ParameterKind::Direction ? glm::dvec3(0.0) : glm::dvec3(1.0, -1.0, 1.0);
+                CHECK_THROWS_WITH(terrain::make_effect(bad), Catch::Contains(p.name));
+                CHECK_THROWS_WITH(parse(entry_json(type, params, p.name, p.kind == fx::ParameterKind::Direction ? "[0, 0, 0]" : "[1, -1, 1]")),
+                                  Catch::Contains(p.name));
+            }
+            continue;
+        }
+        const bool integer = p.kind == fx::ParameterKind::Integer;
+        const auto step = [&](double bound) { return integer ? 1.0 : std::max(1.0, std::abs(bound) * 1e-3); };
+        const double lo_inside = p.range.lo_open ? p.range.lo + step(p.range.lo) : p.range.lo;
+        const double lo_outside = p.range.lo_open ? p.range.lo : p.range.lo - step(p.range.lo);
+        const double hi_outside = p.range.hi + step(p.range.hi);
+        for (double v : {lo_inside, p.range.hi}) {
+            INFO("inside: " << v);
+            P ok = params;
+            fx::set_parameter_value(p, ok, v);
+            CHECK(fx::parameter_value(p, ok) == v);
+            CHECK_NOTHROW(terrain::make_effect(ok));
+            const terrain::Scene scene = parse(entry_json(type, params, p.name, number_json(v)));
+            CHECK(fx::parameter_value(p, std::get<P>(scene.effects[0].params)) == v);
+        }
+        for (double v : {lo_outside, hi_outside}) {
+            INFO("outside: " << v);
+            P bad = params;
+            fx::set_parameter_value(p, bad, v);
+            CHECK_THROWS_WITH(terrain::make_effect(bad), Catch::Contains(p.name));
+            CHECK_THROWS_WITH(parse(entry_json(type, params, p.name, number_json(v))), Catch::Contains(p.name));
+        }
+    }
+}
+
+} // namespace
+
+TEST_CASE("Effect parameter tables: each range is what the effect and the scene parser accept", "[effects][parameters]") {
+    check_table<fx::CampfireParams>("campfire");
+    check_table<fx::SearchLightParams>("search_light");
+    check_table<fx::LaserConeParams>("laser_cone");
+    check_table<fx::VolumeParams>("volume");
+}
+
+TEST_CASE("Effect parameter tables: every field once, its key the scene file's", "[effects][parameters]") {
+    // Every key a table names is one the parser reads (above); here: no name twice, and the
+    // accessors reach distinct fields (setting one leaves the others as they were).
+    const auto distinct = [](auto params) {
+        using P = decltype(params);
+        const auto& table = fx::parameter_table<P>();
+        for (std::size_t i = 0; i < table.size(); ++i) {
+            for (std::size_t j = i + 1; j < table.size(); ++j) CHECK(std::string(table[i].name) != table[j].name);
+            if (!table[i].scalar()) continue;
+            P changed = params;
+            fx::set_parameter_value(table[i], changed, fx::parameter_value(table[i], params) + 1.0);
+            for (std::size_t j = 0; j < table.size(); ++j) {
+                INFO(table[i].name << " changed, " << table[j].name << " read");
+                if (j == i) CHECK(fx::parameter_value(table[j], changed) == fx::parameter_value(table[j], params) + 1.0);
+                else if (table[j].scalar()) CHECK(fx::parameter_value(table[j], changed) == fx::parameter_value(table[j], params));
+                else CHECK(fx::parameter_vector(table[j], changed) == fx::parameter_vector(table[j], params));
+            }
+        }
+    };
+    distinct(fx::CampfireParams{});
+    distinct(fx::SearchLightParams{});
+    distinct(fx::LaserConeParams{});
+    distinct(fx::VolumeParams{});
+    // The checks' messages name the effect, the parameter, the rule and the value.
+    fx::CampfireParams p;
+    p.cells_across = 1;
+    CHECK_THROWS_WITH(fx::Campfire(p), "campfire: cells_across must be in 2..256 (got 1)");
+    fx::SearchLightParams beam;
+    beam.spread_degrees = 61;
+    CHECK_THROWS_WITH(fx::SearchLight(beam), "search_light: spread_degrees must be in [0, 60] (got 61)");
+}
