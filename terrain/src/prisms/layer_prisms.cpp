@@ -31,6 +31,22 @@ void check_options(const LayerPrismOptions& options) {
                         std::to_string(options.fade_height) + ")");
 }
 
+// The density at the bottom of the column at `p`.
+double bottom_density(const LayerPrismOptions& options, const glm::dvec3& p) {
+    switch (options.density) {
+    case LayerDensity::LayerHeight: return 0.0;
+    case LayerDensity::Noise: {
+        const double v = options.noise(p.x, p.y);
+        if (!std::isfinite(v))
+            throw fx::Error("layer prisms: the noise generator gave a non-finite value at (" + std::to_string(p.x) + ", " +
+                            std::to_string(p.y) + ")");
+        return options.density_scale * std::max(v, 0.0);
+    }
+    case LayerDensity::LowerBorder: return options.density_scale;
+    }
+    return 0.0;
+}
+
 // The density at the top of a column `t` thick whose bottom has `bottom` (the Noise density's
 // top is its bottom). LayerHeight and LowerBorder are linear in the height above the bottom, so
 // on a prism's side quad the density is one linear function: the picture does not depend on
@@ -66,25 +82,12 @@ void LayerPrismBuilder::build(const LodMesh& mesh, const LayerPrismOptions& opti
 
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
     bottom_.assign(mesh.positions.size(), kNone);
-    auto noise_at = [&](const glm::dvec3& p) {
-        const double v = options.noise(p.x, p.y);
-        if (!std::isfinite(v))
-            throw fx::Error("layer prisms: the noise generator gave a non-finite value at (" + std::to_string(p.x) +
-                            ", " + std::to_string(p.y) + ")");
-        return std::max(v, 0.0);
-    };
     // Bottom and top point of a LOD vertex, made on first use; top = bottom + 1.
     auto points_of = [&](std::uint32_t v) {
         if (bottom_[v] != kNone) return bottom_[v];
         const glm::dvec3 p = mesh.positions[v];
         const double t = std::max(double(mesh.thickness[v]), 0.0);
-        double lo = 0.0, hi = 0.0;
-        switch (options.density) {
-        case LayerDensity::LayerHeight: lo = 0.0; break;
-        case LayerDensity::Noise: lo = options.density_scale * noise_at(p); break;
-        case LayerDensity::LowerBorder: lo = options.density_scale; break;
-        }
-        hi = top_density(options, t, lo);
+        const double lo = bottom_density(options, p), hi = top_density(options, t, lo);
         bottom_[v] = std::uint32_t(out.points.size());
         out.points.push_back(p);
         out.points.push_back(p + glm::dvec3(0.0, 0.0, t));
@@ -163,21 +166,7 @@ std::uint32_t LayerPrismTracker::acquire_pair(const ContinuousLod& lod, const La
     pair_refs_[pair] = 1;
     // The density at the bottom (build_layer_prisms' rules); the top's follows the thickness in
     // set_points.
-    const glm::dvec3 p = lod.vertex_position(sample);
-    double bottom = 0.0;
-    switch (options.density) {
-    case LayerDensity::LayerHeight: break;
-    case LayerDensity::Noise: {
-        const double v = options.noise(p.x, p.y);
-        if (!std::isfinite(v))
-            throw fx::Error("layer prisms: the noise generator gave a non-finite value at (" + std::to_string(p.x) + ", " +
-                            std::to_string(p.y) + ")");
-        bottom = options.density_scale * std::max(v, 0.0);
-        break;
-    }
-    case LayerDensity::LowerBorder: bottom = options.density_scale; break;
-    }
-    out.scalars[0].values[2 * pair] = float(bottom);
+    out.scalars[0].values[2 * pair] = float(bottom_density(options, lod.vertex_position(sample)));
     pair_listed_[pair] = update_count_ - 1; // written anew: listed whatever it was
     set_points(lod, options, pair, out, changes);
     return pair;
