@@ -103,8 +103,9 @@ TEST_CASE("cellfx bench terrain and absorption, quick", "[cli][bench]") {
 TEST_CASE("cellfx bench effects, flicker and noise, quick", "[cli][bench]") {
     const std::string dir = out_dir("bench_effects");
     require_ran(run_cellfx({"bench", "effects", "--scenes", "campfire", "--paths", "pcp-exact", "--frames", "1", "--size",
-                        "80x60", "--samples", "campfire", "--fx-scale", "1", "--json", dir + "/effects.json"}),
-                {"campfire     fire", "samples:", "CPU per frame in a game", "teleport", "wrote"});
+                        "80x60", "--samples", "campfire", "--fx-scale", "1", "--gl-calls", "--json", dir + "/effects.json"}),
+                {"campfire     fire", "samples:", "CPU per frame in a game", "GL state", "teleport",
+                 "GL calls per steady frame, campfire", "glDrawArrays", "wrote"});
     CHECK(std::filesystem::file_size(dir + "/effects.json") > 100);
     require_ran(run_cellfx({"bench", "flicker", "--frames", "3", "--size", "80x60", "--fx-scale", "1,0.5"}),
                 {"flicker: frame-to-frame change", "80x60, 3 frames", "edge px %"});

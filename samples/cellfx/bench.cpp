@@ -29,7 +29,7 @@ int run_bench(const std::vector<std::string>& args) {
                   "  effects    shipped effect scenes (campfire, searchlight, laser, fog_valley, aurora, fog_valley_night)\n"
                   "             per render path: ms/frame, GPU ms per stage, verified against the scan-line reference, then\n"
                   "             cellfx's CPU per game frame apart from the GL driver's; options: --scenes a,b, --paths a,b,\n"
-                  "             --frames N (8; 60 with --only-cpu), --size WxH, --skip-verify, --only-cpu,\n"
+                  "             --frames N (8; 60 with --only-cpu), --size WxH, --skip-verify, --only-cpu, --gl-calls,\n"
                   "             --fx-scale 1,0.5,0.25 (a row per effects' resolution), --medium froxel|exact, --json FILE\n"
                   "  flicker    frame-to-frame change along depth edges at each fx scale, along the night valley's\n"
                   "             flight; options: --scene FILE, --frames N (60), --time T, --size WxH,\n"

@@ -33,10 +33,11 @@
 //          --fx-scale S[,S...] (the effects' resolution, 1, 0.5, 0.25: a row per scale; default the
 //          scenes' own), --medium froxel|exact (default the scenes'), --skip-verify, --samples a,b
 //          (all five), --no-samples, --only-samples (skip the scene and CPU rows), --only-cpu (the
-//          CPU rows alone), --json FILE: every row as {"scenes": [...]}, the scene rows with
-//          {"scene", "path", "fx_scale", "medium", "ms_per_frame", "gpu_ms", ...}, the CPU rows with
-//          {"scene", "path", "cellfx_cpu_ms": {"median", "p95"}, "driver_cpu_ms": {...},
-//          "allocations_per_frame", ...}.
+//          CPU rows alone), --gl-calls (the CPU rows' GL calls per entry point), --json FILE: every
+//          row as {"scenes": [...]}, the scene rows with {"scene", "path", "fx_scale", "medium",
+//          "ms_per_frame", "gpu_ms", ...}, the CPU rows with {"scene", "path", "cellfx_cpu_ms":
+//          {"median", "p95"}, "driver_cpu_ms": {...}, "gl_state_ms": {...}, "allocations_per_frame",
+//          ...}.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -181,9 +182,9 @@ void bench_samples(const ParsedArgs& parsed, const std::vector<fx::RenderPath>& 
 } // namespace
 
 int bench_effects(const std::vector<std::string>& args) {
-    const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples", "only-cpu"});
+    const ParsedArgs parsed = parse_args(args, {"skip-verify", "no-samples", "only-samples", "only-cpu", "gl-calls"});
     require_known(parsed, {"scenes", "frames", "size", "paths", "skip-verify", "samples", "no-samples", "only-samples", "only-cpu",
-                           "fx-scale", "medium", "json"});
+                           "gl-calls", "fx-scale", "medium", "json"});
     if (!parsed.positional.empty()) throw fx::Error("bench effects: unexpected argument '" + parsed.positional[0] + "'");
     const int frames = int_option(parsed, "bench effects", "frames", parsed.has("only-cpu") ? 60 : 8);
     const std::string json_file = output_file_option(parsed, "json", {}, false); // tried before the work

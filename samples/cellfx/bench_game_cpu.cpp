@@ -11,7 +11,9 @@
 //   driver CPU   the GL calls that make the driver work on this thread (draws, dispatches,
 //                clears, copies, queries, compiles: GlCallClock). A GPU's driver queues them;
 //                llvmpipe runs each draw's vertex stage and binning here, so on llvmpipe this
-//                grows with the cells drawn and says little about a GPU machine.
+//                grows with the cells drawn and says little about a GPU machine;
+//   GL state     the driver's time in every other GL call (state, bindings, uniforms, queries of
+//                state), and how many GL calls cellfx made: small each, many a frame.
 // and the C++ allocations of the two calls (allocation_counter.hpp). Medians and 95th
 // percentiles over the steady frames of the flight; allocations: the most any steady frame made.
 //
@@ -97,9 +99,10 @@ struct GameFrame {
 
 // One frame's figures.
 struct FrameCost {
-    double update_cpu = 0.0, render_cpu = 0.0, driver = 0.0, uploads = 0.0;
-    std::uint64_t allocations = 0;
-    double cellfx() const { return update_cpu + render_cpu - driver; }
+    double update_cpu = 0.0, render_cpu = 0.0, driver = 0.0, uploads = 0.0, state = 0.0;
+    double measuring = 0.0; // what the clocks' reads added to update_cpu + render_cpu
+    std::uint64_t allocations = 0, gl_calls = 0;
+    double cellfx() const { return update_cpu + render_cpu - measuring - driver - state; }
 };
 
 // update() and render() of one frame, measured (the game's clears and glFinish are not).
@@ -121,6 +124,9 @@ FrameCost measured_frame(cellfx::Module& fx, const fx::Camera& camera, const Gam
     c.render_cpu = t2 - t1;
     c.driver = GlCallClock::driver_ms();
     c.uploads = GlCallClock::upload_ms();
+    c.state = GlCallClock::state_ms();
+    c.measuring = GlCallClock::overhead_ms() + 2.0 * GlCallClock::thread_clock_read_ms(); // t1, and t0's and t2's halves
+    c.gl_calls = GlCallClock::calls();
     glFinish();
     return c;
 }
@@ -138,10 +144,11 @@ struct EventCost {
 struct FlightRow {
     std::string scene, path, size;
     int frames = 0;
-    Spread cellfx, driver, update, uploads;
+    Spread cellfx, driver, update, uploads, state, gl_calls;
     std::uint64_t allocations = 0;            // the most of any steady frame (the second pass)
     std::uint64_t first_pass_allocations = 0; // the most of any frame after the warm-up of the first pass
     std::size_t prisms = 0;        // fog and aurora prisms of the last steady frame
+    std::vector<GlCallClock::EntryPoint> gl_entry_points; // calls and ms summed over the steady frames
     std::vector<EventCost> events;
 };
 
@@ -164,7 +171,7 @@ FlightRow fly(const std::string& name, const std::string& path_name, int frames,
     row.size = std::to_string(w) + "x" + std::to_string(h);
     row.frames = frames;
     GameFrame frame(w, h);
-    std::vector<double> cellfx_ms, driver_ms, update_ms, upload_ms;
+    std::vector<double> cellfx_ms, driver_ms, update_ms, upload_ms, state_ms, gl_calls;
     // The flight twice: the first pass is where storage grows to what the flight needs and the
     // driver compiles its shader variants (its allocations reported apart); the second is the
     // steady state a game sees once it has flown there.
@@ -178,13 +185,19 @@ FlightRow fly(const std::string& name, const std::string& path_name, int frames,
             }
             if (f < warmup) continue;
             cellfx_ms.push_back(c.cellfx()), driver_ms.push_back(c.driver), update_ms.push_back(c.update_cpu),
-                upload_ms.push_back(c.uploads);
+                upload_ms.push_back(c.uploads), state_ms.push_back(c.state), gl_calls.push_back(double(c.gl_calls));
             row.allocations = std::max(row.allocations, c.allocations);
+            const std::vector<GlCallClock::EntryPoint>& entry_points = GlCallClock::entry_points();
+            row.gl_entry_points.resize(entry_points.size(), GlCallClock::EntryPoint{"", false, 0, 0.0});
+            for (std::size_t k = 0; k < entry_points.size(); ++k) {
+                row.gl_entry_points[k].name = entry_points[k].name, row.gl_entry_points[k].state = entry_points[k].state;
+                row.gl_entry_points[k].calls += entry_points[k].calls, row.gl_entry_points[k].ms += entry_points[k].ms;
+            }
             row.prisms = fx.stats().fog_prisms.prisms + fx.stats().aurora_prisms.prisms;
         }
     }
     row.cellfx = spread(cellfx_ms), row.driver = spread(driver_ms), row.update = spread(update_ms),
-    row.uploads = spread(upload_ms);
+    row.uploads = spread(upload_ms), row.state = spread(state_ms), row.gl_calls = spread(gl_calls);
 
     // The events, each followed by two frames back on the flight.
     auto event = [&](const std::string& what, const fx::Camera& camera, const GameFrame& target) {
@@ -233,6 +246,7 @@ BenchJsonRow row_json(const FlightRow& r) {
         event["event"] = e.event;
         event["cellfx_cpu_ms"] = e.cost.cellfx();
         event["driver_cpu_ms"] = e.cost.driver;
+        event["gl_state_ms"] = e.cost.state;
         event["allocations"] = e.cost.allocations;
         events.push_back(event);
     }
@@ -245,6 +259,8 @@ BenchJsonRow row_json(const FlightRow& r) {
     j["driver_cpu_ms"] = spread_json(r.driver);
     j["update_cpu_ms"] = spread_json(r.update);
     j["upload_cpu_ms"] = spread_json(r.uploads);
+    j["gl_state_ms"] = spread_json(r.state);
+    j["gl_calls_per_frame"] = spread_json(r.gl_calls);
     j["allocations_per_frame"] = r.allocations;
     j["first_pass_allocations_per_frame"] = r.first_pass_allocations;
     j["prisms"] = r.prisms;
@@ -260,27 +276,28 @@ void bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<st
                 "  camera flying, thread CPU ms (waiting excluded), median / 95th percentile of %d steady frames after\n"
                 "  %d warm-up frames, on a second pass over the flight\n",
                 frames, std::max(warmup, kFlightWarmup));
-    std::printf("  %-17s %-12s %9s %15s %15s %13s %13s %7s %9s %8s\n", "scene", "path", "size", "cellfx cpu", "driver cpu",
-                "update cpu", "uploads", "allocs", "1st pass", "prisms");
+    std::printf("  %-17s %-12s %9s %15s %15s %13s %13s %13s %8s %7s %9s %8s\n", "scene", "path", "size", "cellfx cpu",
+                "driver cpu", "GL state", "update cpu", "uploads", "GL calls", "allocs", "1st pass", "prisms");
     std::vector<FlightRow> rows;
     const std::vector<std::string> own = {""};
     for (const std::string& name : scenes) {
         for (const std::string& path : paths.empty() ? own : paths) {
             FlightRow r = fly(name, path, frames, std::max(warmup, kFlightWarmup), parsed);
-            std::printf("  %-17s %-12s %9s %7.3f /%6.3f %7.3f /%6.3f %6.3f /%5.3f %6.3f /%5.3f %7llu %9llu %8zu\n",
+            std::printf("  %-17s %-12s %9s %7.3f /%6.3f %7.3f /%6.3f %6.3f /%5.3f %6.3f /%5.3f %6.3f /%5.3f %8.0f %7llu %9llu %8zu\n",
                         r.scene.c_str(), r.path.c_str(), r.size.c_str(), r.cellfx.median, r.cellfx.p95, r.driver.median,
-                        r.driver.p95, r.update.median, r.update.p95, r.uploads.median, r.uploads.p95,
+                        r.driver.p95, r.state.median, r.state.p95, r.update.median, r.update.p95, r.uploads.median,
+                        r.uploads.p95, r.gl_calls.median,
                         static_cast<unsigned long long>(r.allocations),
                         static_cast<unsigned long long>(r.first_pass_allocations), r.prisms);
             std::fflush(stdout);
             rows.push_back(std::move(r));
         }
     }
-    std::printf("\n  events (each one frame, after the flight): cellfx cpu / driver cpu ms, allocations\n");
+    std::printf("\n  events (each one frame, after the flight): cellfx cpu / driver cpu (GL state included) ms, allocations\n");
     for (const FlightRow& r : rows) {
         std::printf("  %-17s %-12s", r.scene.c_str(), r.path.c_str());
         for (const EventCost& e : r.events)
-            std::printf("  %s %.2f/%.2f/%llu", e.event.c_str(), e.cost.cellfx(), e.cost.driver,
+            std::printf("  %s %.2f/%.2f/%llu", e.event.c_str(), e.cost.cellfx(), e.cost.driver + e.cost.state,
                         static_cast<unsigned long long>(e.cost.allocations));
         std::printf("\n");
     }
@@ -294,9 +311,24 @@ void bench_game_cpu(const std::vector<std::string>& scenes, const std::vector<st
         }
         guard.push_back((GlCallClock::thread_cpu_ms() - c0) / 100.0);
     }
+    if (parsed.has("gl-calls")) {
+        // Where the driver's time goes, per GL entry point: a list to read when a frame makes
+        // more GL calls than it should.
+        for (const FlightRow& r : rows) {
+            std::vector<GlCallClock::EntryPoint> e = r.gl_entry_points;
+            std::sort(e.begin(), e.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
+            std::printf("\n  GL calls per steady frame, %s (%s): calls, microseconds, kind\n", r.scene.c_str(), r.path.c_str());
+            for (const GlCallClock::EntryPoint& x : e)
+                if (x.calls > 0)
+                    std::printf("    %-34s %8.1f %9.1f  %s\n", x.name, double(x.calls) / r.frames, 1e3 * x.ms / r.frames,
+                                x.state ? "state" : "driver work / upload");
+        }
+    }
     std::printf("  cellfx cpu: update + render minus the driver's calls (uploads, the driver's copy of cellfx's data,\n"
                 "  included); driver cpu: draws, dispatches, clears, copies, queries on the game's thread (llvmpipe runs\n"
-                "  the vertex stage there; a GPU's driver does not); update cpu: update() alone (no GL); uploads: the\n"
+                "  the vertex stage there; a GPU's driver does not); GL state: the driver's time in cellfx's other GL\n"
+                "  calls (state, bindings, uniforms; the monotonic clock); GL calls: every GL call of update + render\n"
+                "  (--gl-calls lists them); update cpu: update() alone (no GL); uploads: the\n"
                 "  buffer and texture writes; allocs: the most C++ allocations (cellfx's and the driver's) of any steady\n"
                 "  frame; 1st pass: the same over the first pass of the flight (storage growing to what the flight\n"
                 "  needs, the driver compiling shader variants); prisms: fog and aurora prisms drawn. The frame's GL\n"
