@@ -59,7 +59,7 @@ constexpr const char* kUsage =
     "                     (headless OpenGL 4.5): pcp (classic, 8-bit), pcp-exact, mip, absorption\n"
     "                     (sorted, classic), absorption-exact; or auto: the fastest on this machine\n"
     "                     that computes --model within --accuracy, measured on this mesh and view\n"
-    "                     (about a third of a frame per path; the pick and why on stderr)\n"
+    "                     (about 0.6 of a frame per path; the pick and why on stderr)\n"
     "  --accuracy E       auto: accepted mean error per pixel, a share of the picture's peak, in\n"
     "                     [1e-6, 1] (default 1e-3: the exact paths and scanline; 4e-3 lets in absorption)\n"
     "  --model NAME       scanline optical model: absorption (default), emission, max\n"

@@ -9,10 +9,11 @@
 //      renderer, and for emission–absorption absorption-exact and absorption, for emission
 //      pcp-exact, for the maximum mip. A candidate whose stated mean error (below) is over the
 //      accepted error is dropped unmeasured.
-//   2. Each remaining candidate draws one warm-up frame (programs, sort state), then one frame
-//      at a quarter and one at half the image's width and height; the two wall times give its
-//      cost as fixed + per-pixel milliseconds (PathCost), predicted for the whole image. That is
-//      about a third of a frame per candidate, on the actual mesh, view and renderer.
+//   2. Each remaining candidate draws one warm-up frame (programs, sort state), then two frames
+//      at a quarter and two at half the image's width and height; the quicker of each pair (other
+//      work on the machine only adds time) give its cost as fixed + per-pixel milliseconds
+//      (PathCost), predicted for the whole image. That is about 0.6 of a frame per candidate,
+//      on the actual mesh, view and renderer.
 //   3. The candidate with the least predicted time wins (ties: the smaller stated error, then
 //      the candidates' order), and PathChoice::reason says what each one cost or why it was out.
 //

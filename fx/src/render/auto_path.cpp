@@ -155,8 +155,11 @@ std::vector<PathCost> measure_path_costs(const CalibrationFrame& frame, const st
         if (candidate.scanline ? !scanline : !gl)
             throw Error(std::string("auto: no renderer given for the candidate ") + candidate_name(candidate));
         static_cast<void>(time_frame(frame, candidate, gl, scanline, 8, 8)); // programs, sort state, buffers
-        const double t1 = time_frame(frame, candidate, gl, scanline, w1, h1);
-        const double t2 = time_frame(frame, candidate, gl, scanline, w2, h2);
+        // The quicker of two frames at each size: other work on the machine only ever adds time.
+        const double t1 = std::min(time_frame(frame, candidate, gl, scanline, w1, h1),
+                                   time_frame(frame, candidate, gl, scanline, w1, h1));
+        const double t2 = std::min(time_frame(frame, candidate, gl, scanline, w2, h2),
+                                   time_frame(frame, candidate, gl, scanline, w2, h2));
         // A noisy machine can make the larger frame the quicker: no negative per-pixel cost.
         cost.ms_per_pixel = std::max(0.0, (t2 - t1) / (p2 - p1));
         cost.fixed_ms = std::max(0.0, t1 - cost.ms_per_pixel * p1);
