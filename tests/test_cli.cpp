@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -107,6 +108,16 @@ TEST_CASE("cellfx render --path auto: the pick and why, its picture, bad options
     require_ran(emission, {"auto picked "});
     CHECK((emission.output.find("path scanline (auto)") != std::string::npos ||
            emission.output.find("path pcp-exact (auto)") != std::string::npos));
+
+    // A mesh the scan-line renderer refuses (one cell twice) leaves it out, and says why.
+    {
+        const std::string dup = dir + "/dup.vtk";
+        std::ofstream(dup) << "# vtk DataFile Version 3.0\none tetrahedron twice\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                              "POINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\nCELLS 2 10\n4 0 1 2 3\n4 0 1 2 3\n"
+                              "CELL_TYPES 2\n10\n10\nPOINT_DATA 4\nSCALARS s double 1\nLOOKUP_TABLE default\n0 0.3 0.6 1\n";
+        require_ran(run_cellfx({"render", dup, "--path", "auto", "--size", "16x16", "--out", dir + "/dup.pfm"}),
+                    {"auto picked absorption-exact", "scanline left out: scan-line renderer: cell 1 has the same points as cell 0"});
+    }
 
     // Bad input: named by the option, exit 1, nothing rendered.
     const auto refused = [&](std::vector<std::string> extra, const std::string& message) {

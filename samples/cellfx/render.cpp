@@ -62,7 +62,8 @@ constexpr const char* kUsage =
     "                     (about 0.6 of a frame per path; the pick and why on stderr)\n"
     "  --accuracy E       auto: accepted mean error per pixel, a share of the picture's peak, in\n"
     "                     [1e-6, 1] (default 1e-3: the exact paths and scanline; 4e-3 lets in absorption)\n"
-    "  --model NAME       scanline optical model: absorption (default), emission, max\n"
+    "  --model NAME       scanline optical model: absorption (default), emission, max (auto: the\n"
+    "                     model its candidates compute)\n"
     "  --fog              pcp-exact: also absorb (one-colour medium, bg·e^-tau + c·(1 - e^-tau))\n"
     "  --sort NAME        absorption paths: visibility sort xmpvo (default; exact on convex and\n"
     "                     non-convex meshes), mpvo (convex meshes), power (Delaunay), centroid\n"
@@ -298,29 +299,40 @@ const std::map<std::string, std::function<Frame(const RenderJob&)>>& render_path
 // --path auto: measures the paths that compute job.model on this machine (fx/auto_path.hpp),
 // prints the pick and why on stderr, sets `picked` to its name and draws the frame with the
 // renderers the measuring warmed up (their set-up and first frame are paid once). Without a GL
-// context only the scan-line renderer is a candidate (the line says so).
+// context the GL paths, for a mesh the scan-line renderer refuses the scan-line renderer, are
+// left out (the line says so).
 Frame render_auto(const RenderJob& job, double accuracy, std::string& picked) {
     fx::CalibrationFrame frame;
     frame.mesh = job.mesh, frame.field = job.field, frame.tf = &job.tf;
     frame.camera = job.camera, frame.width = job.width, frame.height = job.height;
     frame.model = job.model, frame.threads = job.threads, frame.sort = job.sort;
-    const fx::ScanlineRenderer scanline(*job.mesh);
+    std::vector<fx::AutoCandidate> candidates = fx::auto_candidates(job.model);
+    std::string left_out; // candidates this machine or mesh cannot run, and why
+    std::optional<fx::ScanlineRenderer> scanline;
+    try {
+        scanline.emplace(*job.mesh);
+    } catch (const fx::Error& e) { // a mesh the reference refuses (overlapping cells, ...)
+        left_out += std::string("; scanline left out: ") + e.what();
+        candidates.erase(candidates.begin());
+    }
     std::optional<fx::HeadlessContext> context;
-    std::string gl_line;
     try {
         context.emplace();
-        gl_line = context->description();
+        left_out += "; gl: " + context->description();
     } catch (const fx::Error& e) {
-        gl_line = std::string("no GL context, so the scan-line renderer alone: ") + e.what();
+        left_out += std::string("; GL paths left out, no GL context: ") + e.what();
+        candidates.resize(candidates.empty() || !candidates.front().scanline ? 0 : 1);
     }
+    if (candidates.empty()) throw fx::Error("--path auto: no path can draw this mesh here" + left_out);
     std::optional<fx::CellRenderer> gl;
     if (context) gl.emplace(*job.mesh, job.field->name, job.tf);
-    const std::vector<fx::PathCost> costs = fx::measure_path_costs(
-        frame, fx::auto_candidates(job.model, context.has_value()), accuracy, gl ? &*gl : nullptr, &scanline);
+    const std::vector<fx::PathCost> costs =
+        fx::measure_path_costs(frame, candidates, accuracy, gl ? &*gl : nullptr, scanline ? &*scanline : nullptr);
     const fx::PathChoice choice = fx::choose_path(costs, accuracy, job.width, job.height, "--accuracy");
     picked = fx::candidate_name(choice.candidate);
-    std::fprintf(stderr, "%s; gl: %s\n", choice.reason.c_str(), gl_line.c_str());
-    return choice.candidate.scanline ? render_scanline(job, &scanline) : render_gpu(job, choice.candidate.gl, &*gl, gl_line);
+    std::fprintf(stderr, "%s%s\n", choice.reason.c_str(), left_out.c_str());
+    if (choice.candidate.scanline) return render_scanline(job, &*scanline);
+    return render_gpu(job, choice.candidate.gl, &*gl, context->description());
 }
 
 fx::OpticalModel parse_model(const std::string& name) {
