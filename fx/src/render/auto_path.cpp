@@ -72,7 +72,7 @@ PathChoice choose_path(const std::vector<PathCost>& costs, double accuracy, int 
     const long long pixels = (long long)width * height;
     char text[200];
     const PathCost* best = nullptr;
-    std::string meeting, out;
+    std::string meeting, out; // the candidates compared, and those left out (over the accuracy, not measured)
     for (const PathCost& c : costs) {
         if (!(c.stated_error <= accuracy)) {
             std::snprintf(text, sizeof text, "%s states %g", candidate_name(c.candidate), c.stated_error);
@@ -104,7 +104,7 @@ PathChoice choose_path(const std::vector<PathCost>& costs, double accuracy, int 
     std::snprintf(text, sizeof text, "auto picked %s: %.3g ms predicted for %dx%d, stated error %g <= accuracy %g",
                   candidate_name(best->candidate), choice.frame_ms, width, height, best->stated_error, accuracy);
     choice.reason = std::string(text) + " (measured: " + meeting + ")";
-    if (!out.empty()) choice.reason += "; over the accuracy: " + out;
+    if (!out.empty()) choice.reason += "; left out: " + out;
     return choice;
 }
 
