@@ -11,7 +11,8 @@ Checks, each printed with its measured numbers:
   - the volume stops at opaque geometry: the whole mesh in front of an opaque plane through it
     equals the mesh clipped at that plane (ParaView's exact Clip) in front of the same plane;
   - a screenshot twice the view's size, which ParaView renders as 2 x 2 off-axis tiles, equals
-    the view rendered at that size in one piece;
+    the view rendered at that size in one piece; with auto the tiles are drawn without the
+    scan-line renderer (it takes no off-axis view) and meet the exact tolerance;
   - the mesh is converted once: moving the camera and editing the opacity function do not
     convert it again, moving the actor (Position) does, once.
 Writes the images the two-rank and client/server tests compare with into pvcellfx.OUT.
@@ -92,6 +93,21 @@ def main():
     view.ViewSize = [2 * W, 2 * H]
     whole = pc.screenshot(view, pc.out("tiles_whole.png"), 2 * W, 2 * H)
     pc.check(pc.compare("2 x 2 tiles vs one piece", tiled, whole, pc.TILE_TOLERANCE))
+
+    # auto with tiles: the scan-line renderer takes no off-axis view, so the tiles are measured
+    # and drawn without it (a GL path); the picture still meets the exact paths' tolerance
+    # against the scan-line reference at that size.
+    display = simple.GetDisplayProperties(reader, view)
+    display.CellfxRenderPath = "auto"
+    view.ViewSize = [W, H]
+    tiled = pc.screenshot(view, pc.out("tiles_2x2_auto.png"), 2 * W, 2 * H)
+    picked, reason = pc.chosen_path(display)
+    print("info  auto, last tile: " + reason, flush=True)
+    pc.check((picked in ("absorption-exact",) and "scanline left out: an off-axis view" in reason,
+              "auto on off-axis tiles drew with %s, the scan-line renderer left out" % picked))
+    reference = pc.scanline_reference(pc.out("scanline_lox_2x.pfm"), 2 * W, 2 * H)
+    pc.check(pc.compare("2 x 2 tiles, auto, vs scan-line", tiled, reference, pc.PATH_TOLERANCE["absorption-exact"]))
+    display.CellfxRenderPath = "absorption-exact"
 
     if pc.failures:
         print("%d check(s) failed" % len(pc.failures))
