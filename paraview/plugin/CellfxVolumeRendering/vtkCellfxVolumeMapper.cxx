@@ -183,7 +183,8 @@ class vtkCellfxVolumeMapper::vtkInternals
 public:
   std::unique_ptr<fx::CellRenderer> Renderer;
   // The converted mesh and transfer function, kept for the scan-line renderer (built on first
-  // use from Mesh, which it refers to) and auto's calibration.
+  // use from Mesh, which it refers to) and auto's calibration: a CPU copy of the mesh beside
+  // the renderer's own.
   std::optional<fx::CellMesh> Mesh;
   std::optional<fx::TransferFunction> Tf;
   std::unique_ptr<fx::ScanlineRenderer> Scanline;
@@ -207,6 +208,7 @@ public:
   };
   std::optional<AutoKey> AutoFor;
   fx::PathChoice AutoChoice;
+  std::string AutoReason; // the pick's line, with what was left out and why
   vtkWeakPointer<vtkOpenGLRenderWindow> Window; // whose context holds the GL objects
   cellfx_vtk::MeshConverter Converter;
   cellfx_paraview::SceneDepth Depth;
@@ -227,6 +229,7 @@ public:
       plain.has_value() };
     if (in.AutoFor && *in.AutoFor == key)
     {
+      reason = in.AutoReason;
       return in.AutoChoice.candidate;
     }
     fx::check_accuracy(accuracy, "CellfxAccuracy");
@@ -264,7 +267,8 @@ public:
       fx::measure_path_costs(frame, candidates, accuracy, in.Renderer.get(), in.Scanline.get());
     in.AutoChoice = fx::choose_path(costs, accuracy, width, height, "CellfxAccuracy");
     in.AutoFor = key;
-    reason = in.AutoChoice.reason + without_scanline;
+    in.AutoReason = in.AutoChoice.reason + without_scanline;
+    reason = in.AutoReason;
     vtkLog(INFO, "cellfx: " << reason);
     return in.AutoChoice.candidate;
   }
