@@ -8,9 +8,12 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
+#include "fx/image.hpp"
+#include "image_check.hpp"
 #include "process_runner.hpp"
 #include "test_paths.hpp"
 #include "cellfx_names.hpp"
@@ -78,6 +81,65 @@ TEST_CASE("cellfx info, render and convert", "[cli]") {
     CHECK(std::filesystem::exists(dir + "/campfire.png"));
     require_ran(run_cellfx({"convert", "--synthetic", "duct", "--cells", "500", "--out", dir + "/duct.vtk"}), {});
     require_ran(run_cellfx({"info", dir + "/duct.vtk"}), {"tetra"});
+}
+
+TEST_CASE("cellfx render --path auto: the pick and why, its picture, bad options", "[cli][auto]") {
+    const std::string dir = out_dir("auto");
+    const fx_test::RunResult r =
+        run_cellfx({"render", kFin, kFinQ, "--path", "auto", "--size", "64x40", "--out", dir + "/auto.pfm"});
+    require_ran(r, {"auto picked ", "predicted for 64x40", "<= accuracy 0.001", "(auto)"});
+    // "wrote DIR/auto.pfm (64x40, path NAME (auto), ...": the picked path, which must be one
+    // that meets the default accuracy for the default (emission-absorption) model.
+    const std::string marker = "64x40, path ";
+    const std::size_t at = r.output.find(marker);
+    REQUIRE(at != std::string::npos);
+    const std::string picked = r.output.substr(at + marker.size(), r.output.find(' ', at + marker.size()) - at - marker.size());
+    INFO(r.output);
+    REQUIRE((picked == "scanline" || picked == "absorption-exact"));
+    // Its picture passes that path's stated check against the scan-line reference.
+    require_ran(run_cellfx({"render", kFin, kFinQ, "--path", "scanline", "--size", "64x40", "--out", dir + "/ref.pfm"}), {});
+    const fx::Image actual = fx::read_pfm(dir + "/auto.pfm"), expected = fx::read_pfm(dir + "/ref.pfm");
+    fx_test::check_frame("cli_auto_" + picked, actual, expected,
+                         picked == "scanline" ? verify::same_picture(0.0, "the reference itself")
+                                              : verify::stated(verify::Path::AbsorptionExact));
+    // Another model changes the candidates: emission is drawn by scanline or pcp-exact.
+    const fx_test::RunResult emission = run_cellfx(
+        {"render", kFin, kFinQ, "--path", "auto", "--model", "emission", "--size", "32x20", "--out", dir + "/e.pfm"});
+    require_ran(emission, {"auto picked "});
+    CHECK((emission.output.find("path scanline (auto)") != std::string::npos ||
+           emission.output.find("path pcp-exact (auto)") != std::string::npos));
+
+    // A mesh the scan-line renderer refuses (one cell twice) leaves it out, and says why.
+    {
+        const std::string dup = dir + "/dup.vtk";
+        std::ofstream(dup) << "# vtk DataFile Version 3.0\none tetrahedron twice\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                              "POINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\nCELLS 2 10\n4 0 1 2 3\n4 0 1 2 3\n"
+                              "CELL_TYPES 2\n10\n10\nPOINT_DATA 4\nSCALARS s double 1\nLOOKUP_TABLE default\n0 0.3 0.6 1\n";
+        require_ran(run_cellfx({"render", dup, "--path", "auto", "--size", "16x16", "--out", dir + "/dup.pfm"}),
+                    {"auto picked absorption-exact", "scanline left out: scan-line renderer: cell 1 has the same points as cell 0"});
+    }
+
+    // Bad input: named by the option, exit 1, nothing rendered.
+    const auto refused = [&](std::vector<std::string> extra, const std::string& message) {
+        std::vector<std::string> args = {"render", kFin, kFinQ, "--size", "32x20", "--out", dir + "/bad.pfm"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const fx_test::RunResult bad = run_cellfx(args);
+        INFO(bad.describe());
+        CHECK(bad.exit_code == 1);
+        CHECK_THAT(bad.output, Catch::Contains(message));
+    };
+    refused({"--path", "automatic"}, "--path: unknown render path 'automatic'");
+    refused({"--path", "auto", "--accuracy", "2"}, "--accuracy");
+    refused({"--path", "auto", "--accuracy", "0"}, "--accuracy");
+    refused({"--path", "auto", "--accuracy", "nan"}, "--accuracy");
+    refused({"--path", "scanline", "--accuracy", "0.01"}, "--accuracy is an option of --path auto");
+    refused({"--path", "auto", "--accuracy", "1e-6"}, "--accuracy: no render path meets accuracy 1e-06");
+    refused({"--path", "auto", "--fog"}, "--fog is an option of --path pcp-exact");
+    CHECK_FALSE(std::filesystem::exists(dir + "/bad.pfm"));
+    const fx_test::RunResult scene = run_cellfx({"render", fx_test::source_path("content/scenes/campfire.json"), "--path",
+                                                 "auto", "--size", "32x20", "--out", dir + "/scene.png"});
+    CHECK(scene.exit_code == 1);
+    CHECK_THAT(scene.output, Catch::Contains("--path auto: renders a mesh"));
 }
 
 TEST_CASE("cellfx bench scanline, pcp and sort, quick", "[cli][bench]") {

@@ -53,9 +53,10 @@ SEAM_TF = TransferFunction([(0.0, 0.1, 0.2, 1.0), (1.4, 0.1, 0.3, 1.0), (1.7, 1.
                            [(0.0, 0.5), (3.6, 0.9)], 0.6)
 SEAM_CAMERA = {"position": (7.0, 3.4, 2.9), "focal_point": (1.5, 1.0, 1.0), "view_up": (0.0, 0.0, 1.0), "view_angle": 30.0}
 
-PATHS = ["absorption-exact", "absorption", "pcp-exact", "mip"]
-# The scan-line model each path is compared with.
-MODEL = {"absorption-exact": "absorption", "absorption": "absorption", "pcp-exact": "emission", "mip": "max"}
+PATHS = ["absorption-exact", "absorption", "pcp-exact", "mip", "scanline", "auto"]
+# The scan-line model each path is compared with (auto picks among emission-absorption paths).
+MODEL = {"absorption-exact": "absorption", "absorption": "absorption", "pcp-exact": "emission", "mip": "max",
+         "scanline": "absorption", "auto": "absorption"}
 
 
 def load_plugin(remote=False):
@@ -260,7 +261,29 @@ PATH_TOLERANCE = {
     "absorption": Tolerance(0.04, 0.004, 0.01),
     "pcp-exact": Tolerance(0.015, 0.001, 0.01),
     "mip": Tolerance(0.015, 0.001, 0.01),
+    # The reference itself, through an 8-bit framebuffer (and, under MPI, cells split at the
+    # ranks' boundaries: exact for these tetrahedral meshes, the field linear in each piece).
+    "scanline": Tolerance(0.001, 0.0001, 0.0),
 }
+
+
+def chosen_path(display):
+    """The path the last frame on this process drew with ("auto"'s pick) and why."""
+    display.UpdatePropertyInformation()
+    return display.GetProperty("CellfxChosenPath").GetData(), display.GetProperty("CellfxChoiceReason").GetData()
+
+
+def checked_path(path, display):
+    """The path whose tolerance a frame drawn with `path` is checked with: itself, or for auto
+    the path it picked (one that meets auto's default accuracy, or the test fails)."""
+    picked, reason = chosen_path(display)
+    if path != "auto":
+        check((picked == path, "the frame was drawn with %s (%s asked)" % (picked, path)))
+        return path
+    print("info  auto: " + reason, flush=True)
+    check((picked in ("scanline", "absorption-exact"),
+           "auto picked %s, a path within its default accuracy (scanline or absorption-exact)" % picked))
+    return picked if picked in PATH_TOLERANCE else "scanline"
 # Clipped mesh against scene depth: both exact (segments end at the plane, or the cells do),
 # different pre-integration lookups: the exact path's tolerance.
 DEPTH_TOLERANCE = PATH_TOLERANCE["absorption-exact"]
@@ -281,7 +304,10 @@ def mpi_tolerance(path, against_one_rank):
     is looked up in two pieces), so twice the per-pixel part. A seam would break either."""
     t = PATH_TOLERANCE[path]
     pixel = 2.0 * t.pixel if against_one_rank else t.pixel
-    return Tolerance(pixel, t.mean, t.beyond, pixel_abs=MPI_MARGIN[0], mean_abs=MPI_MARGIN[1])
+    # Split cells add silhouette edges where the ranks' pieces meet the mesh's boundary, and a
+    # pixel centre on such an edge goes to either side (measured on the seam mesh: 0.2-0.4% of
+    # the pixels, along its outline, for every path): 1% beyond, as the GL paths have anyway.
+    return Tolerance(pixel, t.mean, max(t.beyond, 0.01), pixel_abs=MPI_MARGIN[0], mean_abs=MPI_MARGIN[1])
 
 
 def compare(name, actual, expected, tolerance, write_images=True):

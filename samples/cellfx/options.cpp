@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "fx/auto_path.hpp"
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 #include "fx/cell_mesh.hpp"        // kMaxCoordinate
@@ -128,6 +129,8 @@ const std::vector<NumericOption> kNumericOptions = {
      "factor on the extinction; every point's sigma times it must stay within 1e32 (checked with the transfer function)"},
     {"render", "background", K::Colour, 0, 1, false, nullptr, "background colour R,G,B"},
     {"render", "threads", K::Integer, 1, 256, false, nullptr, "scan-line worker threads"},
+    {"render", "accuracy", K::Number, fx::kMinAccuracy, fx::kMaxAccuracy, false, nullptr,
+     "--path auto: accepted mean error per pixel, share of the picture's peak"},
     {"render", "time", K::Number, -1e6, 1e6, false, nullptr, "scene time in seconds (the samples' --time range)"},
     {"render", "pixel-error", K::Number, 0, 1e6, true, nullptr, "scene: the terrain LOD's screen-space error in pixels"},
     {"convert", "cells", K::Integer, 1, 1e9, false, "mesh-cells", "cells of a --synthetic mesh"},

@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "commands.hpp"
+#include "fx/auto_path.hpp"
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
@@ -55,8 +57,13 @@ constexpr const char* kUsage =
     "usage: cellfx render FILE [Q_FILE] --out FILE.png|FILE.pfm [options]\n"
     "  --path NAME        render path: scanline (CPU reference, default), or a GPU path\n"
     "                     (headless OpenGL 4.5): pcp (classic, 8-bit), pcp-exact, mip, absorption\n"
-    "                     (sorted, classic), absorption-exact\n"
-    "  --model NAME       scanline optical model: absorption (default), emission, max\n"
+    "                     (sorted, classic), absorption-exact; or auto: the fastest on this machine\n"
+    "                     that computes --model within --accuracy, measured on this mesh and view\n"
+    "                     (about 0.6 of a frame per path; the pick and why on stderr)\n"
+    "  --accuracy E       auto: accepted mean error per pixel, a share of the picture's peak, in\n"
+    "                     [1e-6, 1] (default 1e-3: the exact paths and scanline; 4e-3 lets in absorption)\n"
+    "  --model NAME       scanline optical model: absorption (default), emission, max (auto: the\n"
+    "                     model its candidates compute)\n"
     "  --fog              pcp-exact: also absorb (one-colour medium, bg·e^-tau + c·(1 - e^-tau))\n"
     "  --sort NAME        absorption paths: visibility sort xmpvo (default; exact on convex and\n"
     "                     non-convex meshes), mpvo (convex meshes), power (Delaunay), centroid\n"
@@ -122,6 +129,9 @@ int render_scene_file(const ParsedArgs& parsed) {
     const bool reference = parsed.get("path") == "scanline";
     if (parsed.has("path") && !reference) {
         fx::RenderPath path;
+        if (parsed.get("path") == "auto")
+            throw fx::Error("--path auto: renders a mesh (cellfx render FILE --path auto); a scene's effects take a named "
+                            "path or scanline");
         if (!fx::parse_render_path(parsed.get("path"), path))
             throw fx::Error("--path: unknown render path '" + parsed.get("path") + "'");
         if (renderer.effect_names().empty()) throw fx::Error("--path: the scene has no effects to render");
@@ -204,9 +214,12 @@ struct RenderJob {
     fx::SortMethod sort;
 };
 
-Frame render_scanline(const RenderJob& job) {
+// `warm`: a renderer already built on job.mesh (auto's), so its set-up is not paid twice.
+Frame render_scanline(const RenderJob& job, const fx::ScanlineRenderer* warm = nullptr) {
     const auto t0 = std::chrono::steady_clock::now();
-    const fx::ScanlineRenderer renderer(*job.mesh);
+    std::optional<fx::ScanlineRenderer> own;
+    if (!warm) own.emplace(*job.mesh);
+    const fx::ScanlineRenderer& renderer = warm ? *warm : *own;
     const double setup_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     fx::ScanlineOptions options;
     options.model = job.model;
@@ -228,12 +241,17 @@ Frame render_scanline(const RenderJob& job) {
     return frame;
 }
 
-// One frame of a GPU cell-projection path in a headless context, timed on the GPU.
-Frame render_gpu(const RenderJob& job, fx::RenderPath path) {
+// One frame of a GPU cell-projection path in a headless context, timed on the GPU. `warm`:
+// a renderer of job.mesh whose context is current (auto's, its programs and sort state made).
+Frame render_gpu(const RenderJob& job, fx::RenderPath path, fx::CellRenderer* warm = nullptr,
+                 const std::string& warm_gl = "") {
     const auto t0 = std::chrono::steady_clock::now();
-    const fx::HeadlessContext context;
+    std::optional<fx::HeadlessContext> context;
+    if (!warm) context.emplace();
     const auto t1 = std::chrono::steady_clock::now();
-    fx::CellRenderer renderer(*job.mesh, job.field->name, job.tf);
+    std::optional<fx::CellRenderer> own;
+    if (!warm) own.emplace(*job.mesh, job.field->name, job.tf);
+    fx::CellRenderer& renderer = warm ? *warm : *own;
     const auto t2 = std::chrono::steady_clock::now();
     fx::CellRenderOptions options;
     options.fog = job.fog;
@@ -259,14 +277,14 @@ Frame render_gpu(const RenderJob& job, fx::RenderPath path) {
         frame.counts.push_back({"sort cycles", double(stats.sort_cycles)});
         frame.notes.push_back(std::string("sort: ") + fx::sort_method_name(job.sort));
     }
-    frame.notes.push_back("gl: " + context.description());
+    frame.notes.push_back("gl: " + (context ? context->description() : warm_gl));
     return frame;
 }
 
 // The render paths this build offers, by --path name.
 const std::map<std::string, std::function<Frame(const RenderJob&)>>& render_paths() {
     static const std::map<std::string, std::function<Frame(const RenderJob&)>> paths = {
-        {"scanline", render_scanline},
+        {"scanline", [](const RenderJob& job) { return render_scanline(job); }},
     };
     static const auto all = [] {
         auto with_gpu = paths;
@@ -276,6 +294,45 @@ const std::map<std::string, std::function<Frame(const RenderJob&)>>& render_path
         return with_gpu;
     }();
     return all;
+}
+
+// --path auto: measures the paths that compute job.model on this machine (fx/auto_path.hpp),
+// prints the pick and why on stderr, sets `picked` to its name and draws the frame with the
+// renderers the measuring warmed up (their set-up and first frame are paid once). Without a GL
+// context the GL paths, for a mesh the scan-line renderer refuses the scan-line renderer, are
+// left out (the line says so).
+Frame render_auto(const RenderJob& job, double accuracy, std::string& picked) {
+    fx::CalibrationFrame frame;
+    frame.mesh = job.mesh, frame.field = job.field, frame.tf = &job.tf;
+    frame.camera = job.camera, frame.width = job.width, frame.height = job.height;
+    frame.model = job.model, frame.threads = job.threads, frame.sort = job.sort;
+    std::vector<fx::AutoCandidate> candidates = fx::auto_candidates(job.model);
+    std::string left_out; // candidates this machine or mesh cannot run, and why
+    std::optional<fx::ScanlineRenderer> scanline;
+    try {
+        scanline.emplace(*job.mesh);
+    } catch (const fx::Error& e) { // a mesh the reference refuses (overlapping cells, ...)
+        left_out += std::string("; scanline left out: ") + e.what();
+        candidates.erase(candidates.begin());
+    }
+    std::optional<fx::HeadlessContext> context;
+    try {
+        context.emplace();
+        left_out += "; gl: " + context->description();
+    } catch (const fx::Error& e) {
+        left_out += std::string("; GL paths left out, no GL context: ") + e.what();
+        candidates.resize(candidates.empty() || !candidates.front().scanline ? 0 : 1);
+    }
+    if (candidates.empty()) throw fx::Error("--path auto: no path can draw this mesh here" + left_out);
+    std::optional<fx::CellRenderer> gl;
+    if (context) gl.emplace(*job.mesh, job.field->name, job.tf);
+    const std::vector<fx::PathCost> costs =
+        fx::measure_path_costs(frame, candidates, accuracy, gl ? &*gl : nullptr, scanline ? &*scanline : nullptr);
+    const fx::PathChoice choice = fx::choose_path(costs, accuracy, job.width, job.height, "--accuracy");
+    picked = fx::candidate_name(choice.candidate);
+    std::fprintf(stderr, "%s%s\n", choice.reason.c_str(), left_out.c_str());
+    if (choice.candidate.scanline) return render_scanline(job, &*scanline);
+    return render_gpu(job, choice.candidate.gl, &*gl, context->description());
 }
 
 fx::OpticalModel parse_model(const std::string& name) {
@@ -295,7 +352,7 @@ int run_render(const std::vector<std::string>& args) {
     }
     if (!parsed.positional.empty() && has_extension(parsed.positional[0], ".json")) return render_scene_file(parsed);
     require_known(parsed, {"path", "model", "scalar", "tf", "density", "camera", "near", "size", "background",
-                           "threads", "fog", "sort", "out"});
+                           "threads", "fog", "sort", "out", "accuracy"});
     if (parsed.positional.empty() || parsed.positional.size() > 2) throw fx::Error("expected FILE [Q_FILE]\n" + std::string(kUsage));
     const std::string out = output_file_option(parsed, "out", {".png", ".pfm"}, true);
     // Every option's value before the mesh is read: a typo costs nothing.
@@ -306,13 +363,16 @@ int run_render(const std::vector<std::string>& args) {
     const glm::dvec3 background = parsed.has("background") ? parse_colour(parsed.get("background"), "--background") : glm::dvec3(0.0);
     number_option(parsed, "render", "density", 1.0); // applied with --tf once the field is known
     if (parsed.has("camera")) fx::Camera::parse(parsed.get("camera"), "--camera"); // near fitted to the mesh below
-    const std::string path_name = parsed.get("path", "scanline");
-    const auto path = render_paths().find(path_name);
-    if (path == render_paths().end()) {
+    std::string path_name = parsed.get("path", "scanline");
+    const bool automatic = path_name == "auto";
+    auto path = render_paths().find(path_name);
+    if (path == render_paths().end() && !automatic) {
         std::string names;
         for (const auto& [name, fn] : render_paths()) names += (names.empty() ? "" : ", ") + name;
-        throw fx::Error("--path: unknown render path '" + path_name + "' (this build has: " + names + ")");
+        throw fx::Error("--path: unknown render path '" + path_name + "' (this build has: " + names + ", auto)");
     }
+    const double accuracy = number_option(parsed, "render", "accuracy", fx::kDefaultAccuracy); // its range first
+    if (parsed.has("accuracy") && !automatic) throw fx::Error("--accuracy is an option of --path auto");
 
     const MeshInput input = read_mesh_input(parsed);
     const fx::CellMesh& mesh = input.mesh;
@@ -320,8 +380,8 @@ int run_render(const std::vector<std::string>& args) {
     RenderJob job{&mesh, field, transfer_function_option(parsed, "render", *field, default_transfer_function()), {}, width, height,
                   fx::OpticalModel::EmissionAbsorption, unsigned(threads), parsed.has("fog"), fx::SortMethod::Xmpvo};
     if (parsed.has("sort")) {
-        if (path_name != "absorption" && path_name != "absorption-exact")
-            throw fx::Error("--sort is an option of the absorption paths");
+        if (path_name != "absorption" && path_name != "absorption-exact" && !automatic)
+            throw fx::Error("--sort is an option of the absorption paths (and of auto, which may pick one)");
         if (!fx::parse_sort_method(parsed.get("sort"), job.sort)) {
             std::string names;
             for (const fx::SortMethod m : fx::all_sort_methods()) names += (names.empty() ? "" : ", ") + std::string(fx::sort_method_name(m));
@@ -338,14 +398,15 @@ int run_render(const std::vector<std::string>& args) {
 
     Frame frame;
     try {
-        frame = path->second(job);
+        frame = automatic ? render_auto(job, accuracy, path_name) : path->second(job);
     } catch (const fx::Error& e) { // what a renderer refuses, named by the file it came from
         throw fx::Error(parsed.positional[0] + ": " + e.what());
     }
     fx::composite_over(frame.image, glm::vec3(background));
     fx::write_image(frame.image, out);
 
-    std::printf("wrote %s (%dx%d, path %s, scalar %s)\n", out.c_str(), job.width, job.height, path_name.c_str(),
+    std::printf("wrote %s (%dx%d, path %s%s, scalar %s)\n", out.c_str(), job.width, job.height, path_name.c_str(),
+                automatic ? " (auto)" : "",
                 input.field.c_str());
     std::printf("  %-20s %10.2f ms\n", "load mesh", input.load_ms);
     for (const auto& [stage, ms] : frame.milliseconds) std::printf("  %-20s %10.2f ms\n", stage.c_str(), ms);

@@ -2,11 +2,15 @@
  * @class   vtkCellfxVolumeMapper
  * @brief   volume mapper drawing tetrahedra, pyramids, wedges and hexahedra with cellfx
  *
- * Renders the unstructured grid it is given with one of cellfx's GPU paths (docs/paraview.md):
+ * Renders the unstructured grid it is given with one of cellfx's paths (docs/paraview.md):
  * absorption-exact (default; cells sorted back to front, exact ray segments and a
  * pre-integration table), absorption (the same order, Max, Williams & Silva's projected
- * subdivision), pcp-exact (emission only, no sort) or mip (maximum intensity). The cells are
- * drawn as they are, not cut into tetrahedra.
+ * subdivision), pcp-exact (emission only, no sort), mip (maximum intensity), scanline (the
+ * exact CPU scan-line renderer, its image composited over the framebuffer) or auto: the
+ * fastest of scanline, absorption-exact and absorption that meets Accuracy, measured on this
+ * process's cells and view (fx/auto_path.hpp) and kept until the mesh, the transfer function,
+ * the viewport's size or the accuracy changes. The cells are drawn as they are, not cut into
+ * tetrahedra.
  *
  * Colour and opacity come from the volume property as VTK's unstructured-grid mappers read
  * them: colour = the colour map at s, extinction per unit length = the scalar opacity at s
@@ -27,6 +31,8 @@
 #include "CellfxVolumeRenderingModule.h" // for the export macro
 #include "vtkUnstructuredGridVolumeMapper.h"
 
+#include <string> // for ChosenPath
+
 class vtkRenderer;
 class vtkVolume;
 class vtkWindow;
@@ -43,15 +49,34 @@ public:
     ABSORPTION_EXACT = 0,
     ABSORPTION = 1,
     PCP_EXACT = 2,
-    MIP = 3
+    MIP = 3,
+    SCANLINE = 4,
+    AUTO = 5
   };
   ///@{
   /**
    * The cellfx render path (RenderPathValues). Default ABSORPTION_EXACT.
    */
-  vtkSetClampMacro(RenderPath, int, ABSORPTION_EXACT, MIP);
+  vtkSetClampMacro(RenderPath, int, ABSORPTION_EXACT, AUTO);
   vtkGetMacro(RenderPath, int);
   ///@}
+
+  ///@{
+  /**
+   * AUTO: the accepted mean error per pixel, a share of the picture's peak (fx/auto_path.hpp).
+   * Default 1e-3 (the exact paths and scanline); 4e-3 lets absorption in. A value outside
+   * [1e-6, 1] is reported by name when drawing and nothing is drawn.
+   */
+  vtkSetMacro(Accuracy, double);
+  vtkGetMacro(Accuracy, double);
+  ///@}
+
+  /**
+   * The path the last Render() drew with ("scanline", "absorption-exact", ...; "" before the
+   * first), and for AUTO the line saying why it was picked (what each candidate cost).
+   */
+  const char* GetChosenPath() { return this->ChosenPath.c_str(); }
+  const char* GetChoiceReason() { return this->ChoiceReason.c_str(); }
 
   enum SortValues
   {
@@ -90,6 +115,9 @@ protected:
 
   int RenderPath = ABSORPTION_EXACT;
   int Sort = XMPVO;
+  double Accuracy = 1e-3;
+  std::string ChosenPath;
+  std::string ChoiceReason;
   double LastRenderMilliseconds = 0.0;
   double LastSortMilliseconds = 0.0;
   vtkIdType LastCellCount = 0;

@@ -47,6 +47,22 @@ int vtkCellfxVolumeRepresentation::GetSort()
 {
   return this->Mapper->GetSort();
 }
+void vtkCellfxVolumeRepresentation::SetAccuracy(double accuracy)
+{
+  this->Mapper->SetAccuracy(accuracy);
+}
+double vtkCellfxVolumeRepresentation::GetAccuracy()
+{
+  return this->Mapper->GetAccuracy();
+}
+const char* vtkCellfxVolumeRepresentation::GetChosenPath()
+{
+  return this->Mapper->GetChosenPath();
+}
+const char* vtkCellfxVolumeRepresentation::GetChoiceReason()
+{
+  return this->Mapper->GetChoiceReason();
+}
 void vtkCellfxVolumeRepresentation::SetSplitBoundaryCells(bool split)
 {
   if (this->SplitBoundaryCells != split)

@@ -39,12 +39,17 @@ public:
 
   ///@{
   /**
-   * Forwarded to vtkCellfxVolumeMapper: the render path and the visibility sort.
+   * Forwarded to vtkCellfxVolumeMapper: the render path, the visibility sort and auto's
+   * accepted error; which path the last frame on this process drew and why auto picked it.
    */
   void SetRenderPath(int path);
   int GetRenderPath();
   void SetSort(int sort);
   int GetSort();
+  void SetAccuracy(double accuracy);
+  double GetAccuracy();
+  const char* GetChosenPath();
+  const char* GetChoiceReason();
   ///@}
 
   ///@{
