@@ -106,6 +106,7 @@ struct ContinuousLod::Impl {
         std::int32_t fan = kNoFan;
         std::uint32_t fan_changed = 0;   // the frame it last went into changes.fan_nodes
         std::uint16_t i = 0, j = 0;      // the sample's grid coordinates (no division by n)
+        float true_h = 0.0f;             // the sample's height (a copy of its vertex's: own_f() reads it with the node)
         std::uint8_t state = 0, flags = 0;
     };
     struct Vertex {
@@ -150,7 +151,7 @@ struct ContinuousLod::Impl {
     float true_height(std::uint32_t s) const { return verts[s].true_h; }
     float true_thickness(std::uint32_t s) const { return verts[s].true_t; }
     glm::dvec3 center_position(std::uint32_t s) const {
-        return {ground.x(ix(s)), ground.y(jy(s)), double(verts[s].true_h)};
+        return {ground.x(ix(s)), ground.y(jy(s)), double(nodes[s].true_h)};
     }
     // Centre of the parent of node (i, j, h): the odd multiple of 2h among i ± h.
     // (i − h = 2h·k: k is odd exactly when bit 2h of i − h is set.)
@@ -596,7 +597,10 @@ struct ContinuousLod::Impl {
         K = s.min_resolution / (2.0 * (s.min_resolution - 1.0));
         const std::size_t count = std::size_t(n) * std::size_t(n);
         nodes.assign(count, Node{});
-        for (std::size_t k = 0; k < count; ++k) nodes[k].i = std::uint16_t(k % std::size_t(n)), nodes[k].j = std::uint16_t(k / std::size_t(n));
+        for (std::size_t k = 0; k < count; ++k) {
+            nodes[k].i = std::uint16_t(k % std::size_t(n)), nodes[k].j = std::uint16_t(k / std::size_t(n));
+            nodes[k].true_h = ground.heights[k];
+        }
         verts.assign(count, Vertex{});
         for (std::size_t k = 0; k < count; ++k) {
             verts[k].true_h = verts[k].h = ground.heights[k];
