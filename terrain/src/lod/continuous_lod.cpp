@@ -37,6 +37,20 @@ struct Wake {
     bool operator>(const Wake& o) const { return at > o.at; }
 };
 
+// A morphing node's wake-up: due once the odometer reaches `at`, or once the eye's distance to
+// the node's centre leaves (√lo2, √hi2) — the exact interval over which its own f keeps its
+// stepped blend. The distance test follows the eye itself rather than its path length, which
+// bounds every direction of travel by the fastest (a sideways flight woke six times the nodes
+// that changed). Scanned in order every frame, so the centre is kept here: no node is read
+// until it is due.
+struct MorphWake {
+    double at;
+    double cx, cy, cz;
+    double lo2, hi2;
+    std::uint32_t node;
+    std::uint32_t generation;
+};
+
 // A min-heap of wake-ups on a vector whose storage is kept: cleared and compacted in place, so a
 // steady frame allocates nothing for it.
 struct WakeHeap {
@@ -114,6 +128,7 @@ struct ContinuousLod::Impl {
         float h = 0.0f, t = 0.0f;           // geomorphed height and thickness
         std::uint32_t local = std::numeric_limits<std::uint32_t>::max(); // extract(): vertex id
         std::uint32_t changed = 0;          // the frame it last went into changes.vertices
+        std::uint16_t i = 0, j = 0;         // the sample's grid coordinates (read with its height)
     };
     std::vector<Node> nodes;
     mutable std::vector<Vertex> verts;
@@ -121,7 +136,7 @@ struct ContinuousLod::Impl {
     std::size_t triangles = 0;
     std::size_t live = 0;
     WakeHeap wakes;
-    std::vector<Wake> morph_wakes; // the morphing nodes' (stepped geomorphing), unordered
+    std::vector<MorphWake> morph_wakes; // the morphing nodes' (stepped geomorphing), unordered
     std::vector<std::uint32_t> morphing, next_morphing;
     std::array<std::vector<std::uint32_t>, kLevels> candidates, vertex_dirty;
     std::vector<std::uint32_t> fan_dirty, touched;
@@ -148,6 +163,10 @@ struct ContinuousLod::Impl {
         return i > 0 && j > 0 && i < n - 1 && j < n - 1 && (i & -i) == (j & -j);
     }
     int half_size(std::uint32_t s) const { const int i = ix(s); return i & -i; }
+    // A vertex's coordinates, from its own record (a vertex is rarely a node looked at in the
+    // same frame: reading the node's would cost a cache miss).
+    int vx(std::uint32_t v) const { return verts[v].i; }
+    int vy(std::uint32_t v) const { return verts[v].j; }
     float true_height(std::uint32_t s) const { return verts[s].true_h; }
     float true_thickness(std::uint32_t s) const { return verts[s].true_t; }
     glm::dvec3 center_position(std::uint32_t s) const {
@@ -181,18 +200,24 @@ struct ContinuousLod::Impl {
         return 2.0 * h * ground.spacing * settings.min_resolution * std::max(c_eff * double(nodes[s].d2), 1.0);
     }
     double own_f(std::uint32_t s, int h) const { return glm::length(last_eye - center_position(s)) / node_scale(s, h); }
-    // f_eff, memoized per frame; `own` (when given and computed here) receives f.
-    double f_eff(std::uint32_t s, int h, double* own = nullptr) {
-        if (nodes[s].fe_frame == frame) return nodes[s].fe;
-        double f = own_f(s, h);
-        if (own) *own = f;
-        ++stats->nodes_evaluated;
+    // The largest f_eff of the coarser nodes a split of s needs (0 for the root).
+    double constraint(std::uint32_t s, int h) {
+        double f = 0.0;
         if (s != root) {
             std::uint32_t req[3];
             const int k = required(ix(s), jy(s), h, req);
             for (int q = 0; q < k; ++q) f = std::max(f, f_eff(req[q], 2 * h));
         }
-        nodes[s].fe = float(f);
+        return f;
+    }
+    // f_eff = max(own f, constraint), memoized per frame (`own` and `constraint` when the caller
+    // has them).
+    double f_eff(std::uint32_t s, int h, double own = -1.0, double constrained_by = -1.0) {
+        if (nodes[s].fe_frame == frame) return nodes[s].fe;
+        ++stats->nodes_evaluated;
+        if (own < 0.0) own = own_f(s, h);
+        if (constrained_by < 0.0) constrained_by = constraint(s, h);
+        nodes[s].fe = float(std::max(own, constrained_by));
         nodes[s].fe_frame = frame;
         return nodes[s].fe;
     }
@@ -236,7 +261,9 @@ struct ContinuousLod::Impl {
         }
     }
 
-    void schedule(std::uint32_t s, int h, double f) {
+    // `own` is the node's own f and `constrained_by` the largest f_eff of the coarser nodes it
+    // needs split (f = max of the two).
+    void schedule(std::uint32_t s, int h, double f, double own, double constrained_by) {
         const bool split = nodes[s].state & kSplit;
         const bool was_morphing = nodes[s].state & kMorph;
         double margin = 0.0;
@@ -249,10 +276,29 @@ struct ContinuousLod::Impl {
                 return;
             }
             // Looked at again when b·steps may cross a half step (its rounded value changes) or f
-            // may leave (0.5, 1): b = 2(1 − f), so f moves by 1/(2·steps) per step of b.
+            // may leave (0.5, 1): b = 2(1 − f), so f moves by 1/(2·steps) per step of b. The
+            // blend holds while f stays in (f_lo, f_hi).
             const int steps = settings.morph_steps;
             const double x = 2.0 * (1.0 - f) * steps;
-            margin = std::min({std::abs(x - std::floor(x) - 0.5) / (2.0 * steps), f - 0.5, 1.0 - f});
+            const double x_lo = std::floor(x - 0.5) + 0.5; // the half steps either side of x
+            const double f_hi = std::min(1.0, 1.0 - x_lo / (2.0 * steps));
+            const double f_lo = std::max(0.5, 1.0 - (x_lo + 1.0) / (2.0 * steps));
+            const double scale = node_scale(s, h);
+            morphing_count += was_morphing ? 0 : 1;
+            MorphWake w{0.0, 0.0, 0.0, 0.0, -1.0, std::numeric_limits<double>::infinity(), s, ++nodes[s].generation};
+            if (constrained_by < own) {
+                // f is its own: it holds while the eye's distance to the centre stays in
+                // (f_lo·T, f_hi·T) and the constraint stays under f_hi (|Δf_eff| ≤ |Δeye| / T).
+                const glm::dvec3 c = center_position(s);
+                const double lo = f_lo * scale * (1.0 + 1e-6), hi = f_hi * scale * (1.0 - 1e-6);
+                w.cx = c.x, w.cy = c.y, w.cz = c.z;
+                w.lo2 = lo * lo, w.hi2 = hi * hi;
+                w.at = odometer + std::max(f_hi - constrained_by, 0.0) * scale * (1.0 - 1e-6);
+            } else {
+                w.at = odometer + std::max(std::min(f - f_lo, f_hi - f), 0.0) * scale * (1.0 - 1e-6);
+            }
+            morph_wakes.push_back(w);
+            return;
         } else {
             nodes[s].state &= std::uint8_t(~kMorph);
             margin = split ? (settings.geomorph ? 0.5 - f : 1.0 - f) : f - 1.0;
@@ -261,11 +307,9 @@ struct ContinuousLod::Impl {
         morphing_count = morphing_count + (now_morphing ? 1 : 0) - (was_morphing ? 1 : 0);
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
         const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
-        const Wake w{odometer + travel, s, ++nodes[s].generation};
         // Morphing nodes come due every few frames: a list scanned once a frame is cheaper for
         // them than a heap (see advance()); the others may sleep for a long flight.
-        if (nodes[s].state & kMorph) morph_wakes.push_back(w);
-        else wakes.push(w);
+        wakes.push(Wake{odometer + travel, s, ++nodes[s].generation});
     }
 
     void evaluate(std::uint32_t s, int h) {
@@ -274,14 +318,14 @@ struct ContinuousLod::Impl {
         ++stats->nodes_examined;
         const std::uint8_t before = nodes[s].state;
         const double blend_before = blend(s); // from its last evaluation
-        double own = -1.0;
-        const double f = f_eff(s, h, &own);
+        const double own = own_f(s, h), constrained_by = constraint(s, h);
+        const double f = f_eff(s, h, own, constrained_by);
         nodes[s].blend = float(morph_blend(f));
-        if (own >= 0.0 && f > own * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
+        if (f > own * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
         const bool want = f < 1.0;
         if (want && !(before & kSplit)) split(s, h);
         else if (!want && (before & kSplit)) merge(s, h);
-        schedule(s, h, f);
+        schedule(s, h, f, own, constrained_by);
         const std::uint8_t after = nodes[s].state;
         if ((before & (kMorph | kSplit)) != (after & (kMorph | kSplit)) || blend(s) != blend_before)
             mark(s, kVertexDirty);
@@ -362,7 +406,7 @@ struct ContinuousLod::Impl {
         for (int side = 0; side < 4; ++side) {
             const int a = side, c = (side + 1) % 4; // side s runs from corner s to corner s + 1
             const std::uint32_t ka = id(i + ci[a] * h, j + cj[a] * h), kc = id(i + ci[c] * h, j + cj[c] * h);
-            const std::uint32_t m = id((ix(ka) + ix(kc)) / 2, (jy(ka) + jy(kc)) / 2);
+            const std::uint32_t m = id(i + (ci[a] + ci[c]) * h / 2, j + (cj[a] + cj[c]) * h / 2);
             std::uint32_t other;
             const double bo = neighbour(i, j, h, side, other) && (nodes[other].state & kLive) ? blend(other) : 0.0;
             changed = morph_vertex(m, ka, kc, std::max(b, bo)) || changed;
@@ -378,7 +422,7 @@ struct ContinuousLod::Impl {
     }
     // Every drawn fan that has sample v as its centre or in its ring, listed as changed.
     void fans_touching_changed(std::uint32_t v) {
-        const int i = ix(v), j = jy(v);
+        const int i = vx(v), j = vy(v);
         for (int h = 1; h <= root_h; h *= 2) {
             // The nodes of this size whose closed square holds v: centres at odd multiples of h
             // within h of it on both axes.
@@ -409,7 +453,7 @@ struct ContinuousLod::Impl {
         for (int side = 0; side < 4; ++side) {
             std::uint32_t other;
             if (!neighbour(i, j, h, side, other) || !(nodes[other].state & kLive) || !(nodes[other].state & kSplit)) continue;
-            const int a = ix(other), b = jy(other);
+            const int a = i + 2 * h * di[side], b = j + 2 * h * dj[side]; // other's centre
             if (di[side] != 0) dirty(a - di[side] * q, b - q), dirty(a - di[side] * q, b + q);
             else dirty(a - q, b - dj[side] * q), dirty(a + q, b - dj[side] * q);
         }
@@ -486,7 +530,7 @@ struct ContinuousLod::Impl {
         if (tree <= reserved_live) return;
         reserved_live = tree + tree / 2;
         for (auto& list : candidates) list.reserve(reserved_live);
-        morph_wakes.reserve(2 * reserved_live);
+        morph_wakes.reserve(3 * reserved_live); // up to the compaction threshold and a frame's pushes
         changes.vertices.reserve(8 * reserved_live);
         changes.fans.reserve(reserved_live);
         changes.fan_nodes.reserve(reserved_live);
@@ -530,26 +574,35 @@ struct ContinuousLod::Impl {
         odometer += glm::length(eye - last_eye);
         last_eye = eye;
         ++frame;
-        const auto wake = [&](const Wake& w) {
-            if (w.generation == nodes[w.node].generation && (nodes[w.node].state & kLive) && !(nodes[w.node].flags & kCandidate)) {
-                mark(w.node, kCandidate);
+        const auto wake = [&](std::uint32_t node, std::uint32_t generation) {
+            if (generation == nodes[node].generation && (nodes[node].state & kLive) && !(nodes[node].flags & kCandidate)) {
+                mark(node, kCandidate);
                 ++stats->nodes_woken;
             }
         };
         while (!wakes.empty() && wakes.top().at <= odometer) {
             const Wake w = wakes.top();
             wakes.pop();
-            wake(w);
+            wake(w.node, w.generation);
         }
-        // The morphing nodes' wake-ups: those due are woken (and rescheduled by evaluate()),
-        // stale ones dropped, the rest kept in place.
+        // The morphing nodes' wake-ups: those due are woken (and rescheduled by evaluate()) or
+        // dropped if stale, the rest kept in place without reading their nodes.
         std::size_t kept = 0;
-        for (const Wake& w : morph_wakes) {
-            if (w.generation != nodes[w.node].generation) continue;
-            if (w.at <= odometer) wake(w);
+        for (const MorphWake& w : morph_wakes) {
+            const double dx = eye.x - w.cx, dy = eye.y - w.cy, dz = eye.z - w.cz;
+            const double d2 = dx * dx + dy * dy + dz * dz;
+            if (w.at <= odometer || !(d2 > w.lo2 && d2 < w.hi2)) wake(w.node, w.generation);
             else morph_wakes[kept++] = w;
         }
         morph_wakes.resize(kept);
+        // Stale entries (nodes rescheduled early or removed) wait for their own condition: drop
+        // them now and then.
+        if (morph_wakes.size() > morphing_count + live / 2 + 1024)
+            morph_wakes.erase(std::remove_if(morph_wakes.begin(), morph_wakes.end(),
+                                             [&](const MorphWake& w) {
+                                                 return w.generation != nodes[w.node].generation || !(nodes[w.node].state & kLive);
+                                             }),
+                              morph_wakes.end());
         for (std::uint32_t s : morphing)
             if (nodes[s].state & kLive) mark(s, kCandidate);
         for (int l = kLevels - 1; l >= 0; --l) {
@@ -605,6 +658,7 @@ struct ContinuousLod::Impl {
         for (std::size_t k = 0; k < count; ++k) {
             verts[k].true_h = verts[k].h = ground.heights[k];
             verts[k].true_t = verts[k].t = layer ? layer->heights[k] : 0.0f;
+            verts[k].i = nodes[k].i, verts[k].j = nodes[k].j;
         }
         compute_roughness();
         if (layer) {
@@ -770,7 +824,7 @@ void ContinuousLod::extract(LodMesh& out) const {
         if (vertex.local == std::numeric_limits<std::uint32_t>::max()) {
             vertex.local = std::uint32_t(out.grid_index.size());
             out.grid_index.push_back(s);
-            out.positions.emplace_back(m.ground.x(m.ix(s)), m.ground.y(m.jy(s)), double(vertex.h));
+            out.positions.emplace_back(m.ground.x(vertex.i), m.ground.y(vertex.j), double(vertex.h));
             out.thickness.push_back(std::max(vertex.t, 0.0f));
         }
         return vertex.local;
@@ -803,7 +857,8 @@ LodFan ContinuousLod::fan(std::size_t slot) const {
 
 glm::dvec3 ContinuousLod::vertex_position(std::uint32_t sample) const {
     const Impl& m = *impl_;
-    return {m.ground.x(m.ix(sample)), m.ground.y(m.jy(sample)), double(m.verts[sample].h)};
+    const Impl::Vertex& v = m.verts[sample];
+    return {m.ground.x(v.i), m.ground.y(v.j), double(v.h)};
 }
 
 float ContinuousLod::vertex_thickness(std::uint32_t sample) const {
