@@ -463,12 +463,14 @@ void GlProjector::reserve_tables(bool keep) {
     const std::size_t nt = geometry_.triangles.size(), nc = mesh_.cell_count(), np = mesh_.point_count();
     const std::size_t table = nt * sizeof(glm::vec4);
     const auto kept = [keep](const gl::GrowingBuffer& b) { return keep ? b.capacity() : 0; };
-    if (planes_.reserve(table, kept(planes_))) attach(planes_texture_, GL_RGBA32F, planes_.id());
-    if (scalar_fns_.reserve(table, kept(scalar_fns_))) attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_.id());
-    if (barycentrics_.reserve(all_tetrahedra() ? 16 : 2 * table, kept(barycentrics_)))
-        attach(barycentrics_texture_, GL_RGBA32F, barycentrics_.id());
-    if (elements_.reserve(3 * nt * 4, kept(elements_)) && vertex_array_)
-        glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
+    if (tables_reserved_) {
+        if (planes_.reserve(table, kept(planes_))) attach(planes_texture_, GL_RGBA32F, planes_.id());
+        if (scalar_fns_.reserve(table, kept(scalar_fns_))) attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_.id());
+        if (barycentrics_.reserve(all_tetrahedra() ? 16 : 2 * table, kept(barycentrics_)))
+            attach(barycentrics_texture_, GL_RGBA32F, barycentrics_.id());
+        if (elements_.reserve(3 * nt * 4, kept(elements_)) && vertex_array_)
+            glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
+    }
     // New stamps are 0: older than any update.
     const auto stamps = [keep](gl::GrowingBuffer& buffer, std::size_t count) {
         const std::size_t before = buffer.capacity();
@@ -518,6 +520,12 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
         return;
     }
     gl::StateGuard guard;
+    if (!tables_reserved_) { // the first pass that reads the tables: room for them, every cell built
+        tables_reserved_ = true;
+        reserve_tables(/*keep=*/true);
+        bytes_ = gpu_capacity_bytes();
+        build_all_ = elements_all_ = true;
+    }
     if (!tables_program_ || tables_program_cells_ != vertices_per_cell_) { // linked once per kind of mesh
         tables_program_ = &program({"projector_tables.comp"}, mesh_defines());
         tables_program_cells_ = vertices_per_cell_;

@@ -233,8 +233,9 @@ private:
     void apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes);
     void upload_point_data();
     void upload_tables(const TransferFunction& tf);
-    // Room in the table buffers (planes, scalar functions, barycentrics, elements) and the stamps
-    // for the mesh's triangles, cells and points; with `keep`, what is built stays.
+    // Room in the stamps for the mesh's cells and points and, once a pass has asked for them
+    // (tables_reserved_), in the table buffers (planes, scalar functions, barycentrics, elements)
+    // for its triangles; with `keep`, what is built stays.
     void reserve_tables(bool keep);
     // The cell's triangles (geometry_.triangles, cell_triangle_vertices_) from its connectivity;
     // flush_triangles() those of the cells update_mesh changed (left until a CPU pass asks).
@@ -301,6 +302,9 @@ private:
     gl::GrowingBuffer point_stamps_, cell_stamps_;
     std::uint32_t stamp_ = 0, built_stamp_ = 0;
     bool build_all_ = true;   // the next build covers every cell (a new mesh, new scalars)
+    // The cell tables are allocated at the first build_tables (prepare_draw): pcp, mip and
+    // classic absorption never read them, so a renderer only they draw with keeps none.
+    bool tables_reserved_ = false;
     bool elements_all_ = true; // and writes every cell's triangles (a new mesh or view)
     std::unique_ptr<gl::ScatterPass> point_scatter_, cell_scatter_;
     const gl::Program* tables_program_ = nullptr; // for meshes of tables_program_cells_ vertices per cell

@@ -200,7 +200,8 @@ CellRenderStats CellRenderer::render(const Camera& camera, const Viewport& viewp
 
     gl::StateGuard::set_render_defaults();
     auto start = begin_stage(kStageTables);
-    projector.prepare_draw(camera, viewport); // the GPU's tables (and culled cells) for this mesh and view
+    // The GPU's tables (and culled cells) for this mesh and view: the exact paths' alone.
+    if (path == RenderPath::PcpExact || path == RenderPath::AbsorptionExact) projector.prepare_draw(camera, viewport);
     end_stage(kStageTables, start);
     gl::RenderTarget& target = m.target_for(path, viewport.width, viewport.height);
     // Only the pixels the mesh can cover are cleared, drawn and resolved: a small mesh in a large
