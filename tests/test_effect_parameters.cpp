@@ -10,6 +10,8 @@
 #include <sstream>
 #include <variant>
 
+#include <glm/vec3.hpp>
+
 #include "fx/effect_parameters.hpp"
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
@@ -148,4 +150,114 @@ TEST_CASE("Effect parameter tables: every field once, its key the scene file's",
     fx::SearchLightParams beam;
     beam.spread_degrees = 61;
     CHECK_THROWS_WITH(fx::SearchLight(beam), "search_light: spread_degrees must be in [0, 60] (got 61)");
+}
+
+namespace {
+
+template <class P>
+struct EffectOf;
+template <>
+struct EffectOf<fx::CampfireParams> { using type = fx::Campfire; };
+template <>
+struct EffectOf<fx::SearchLightParams> { using type = fx::SearchLight; };
+template <>
+struct EffectOf<fx::LaserConeParams> { using type = fx::LaserCone; };
+template <>
+struct EffectOf<fx::VolumeParams> { using type = fx::Volume; };
+
+// Another value of p's field, inside its range.
+template <class P>
+void change(const fx::Parameter<P>& p, P& params) {
+    if (p.vector) {
+        glm::dvec3& v = *p.vector(params);
+        v = p.kind == fx::ParameterKind::Extents ? 1.25 * v : v + glm::dvec3(0.5, 0.25, -0.125);
+        return;
+    }
+    const double v = fx::parameter_value(p, params);
+    const double d = p.kind == fx::ParameterKind::Number ? std::max(0.1 * std::abs(v), 0.05) : 1.0;
+    const double w = p.kind != fx::ParameterKind::Seed && v + d > p.range.hi ? v - d : v + d;
+    REQUIRE((p.kind == fx::ParameterKind::Seed || p.range.contains(w)));
+    fx::set_parameter_value(p, params, w);
+}
+
+// For each parameter of the table: changing it alone costs what the table says at the next
+// update (the base's bookkeeping follows the table), and that is enough: the mesh and scalars
+// are those of an effect made with the new parameters.
+template <class P>
+void check_costs(const char* type) {
+    using E = typename EffectOf<P>::type;
+    fx::EffectView view;
+    view.camera = fx::Camera::parse("eye=0,-5,1,target=0,0,0.7,up=0,0,1");
+    view.time = 0.75;
+    for (const fx::Parameter<P>& p : fx::parameter_table<P>()) {
+        P params{};
+        if constexpr (std::is_same_v<P, fx::VolumeParams>) {
+            params.cells = 6; // not automatic: a new edge fade or density mode keeps the grid
+            if (std::string(p.name) == "radius") params.shape = fx::VolumeShape::Sphere;
+            if (std::string(p.name).rfind("noise.", 0) == 0) {
+                params.density_mode = fx::VolumeDensity::Noise;
+                params.noise.evolve = 0.5; // animated, so a stale time would show
+            }
+        }
+        INFO(type << "." << p.name << " costs " << fx::parameter_cost_name(p.cost));
+        E effect(params);
+        effect.update(view);
+        const fx::EffectCounters before = effect.counters();
+        P changed = params;
+        change(p, changed);
+        CHECK(fx::change_cost(params, changed) == p.cost);
+        effect.set_params(changed);
+        const fx::EffectChanges c = effect.update(view);
+        CHECK(c.mesh == (p.cost == fx::ParameterCost::Rebuild));
+        CHECK(c.scalars == (p.cost == fx::ParameterCost::Scalars));
+        CHECK(effect.counters().mesh_builds - before.mesh_builds == (p.cost == fx::ParameterCost::Rebuild ? 1u : 0u));
+        CHECK(effect.counters().scalar_updates - before.scalar_updates == (p.cost == fx::ParameterCost::Scalars ? 1u : 0u));
+        E fresh(changed);
+        fresh.update(view);
+        CHECK(effect.mesh().points == fresh.mesh().points);
+        CHECK(effect.mesh().cell_count() == fresh.mesh().cell_count());
+        REQUIRE(effect.mesh().scalars.size() == 1);
+        CHECK(effect.mesh().scalars[0].values == fresh.mesh().scalars[0].values);
+        CHECK(effect.transform() == fresh.transform());
+        // The same parameters again cost nothing.
+        effect.set_params(changed);
+        const fx::EffectChanges again = effect.update(view);
+        CHECK_FALSE(again.any());
+    }
+}
+
+} // namespace
+
+TEST_CASE("Effect parameter tables: a change costs what the table says, and that is enough", "[effects][parameters]") {
+    check_costs<fx::CampfireParams>("campfire");
+    check_costs<fx::SearchLightParams>("search_light");
+    check_costs<fx::LaserConeParams>("laser_cone");
+    check_costs<fx::VolumeParams>("volume");
+    // What the volume's table does not describe: a new shape rebuilds, a new density mode on a
+    // box re-evaluates, on a mesh (whose field is copied when built) rebuilds.
+    fx::VolumeParams box;
+    box.cells = 4;
+    fx::VolumeParams sphere = box;
+    sphere.shape = fx::VolumeShape::Sphere;
+    fx::VolumeParams noisy = box;
+    noisy.density_mode = fx::VolumeDensity::Noise;
+    fx::Volume v(box);
+    fx::EffectView view;
+    view.camera = fx::Camera::parse("eye=0,-5,1,target=0,0,0.7,up=0,0,1");
+    v.update(view);
+    v.set_params(noisy);
+    fx::EffectChanges c = v.update(view);
+    CHECK((c.scalars && !c.mesh));
+    v.set_params(sphere);
+    c = v.update(view);
+    CHECK(c.mesh);
+    // Automatic cells follow the density mode: a constant box is one hexahedron, a noisy one 16.
+    fx::VolumeParams automatic;
+    fx::Volume a(automatic);
+    a.update(view);
+    CHECK(a.mesh().cell_count() == 1);
+    automatic.density_mode = fx::VolumeDensity::Noise;
+    a.set_params(automatic);
+    CHECK(a.update(view).mesh);
+    CHECK(a.mesh().cell_count() == 16 * 16 * 16);
 }

@@ -63,15 +63,6 @@ std::string format(double v) {
 
 } // namespace
 
-const char* parameter_cost_name(ParameterCost cost) {
-    switch (cost) {
-    case ParameterCost::Pose: return "pose";
-    case ParameterCost::Scalars: return "scalars";
-    case ParameterCost::Rebuild: return "rebuild";
-    }
-    return "?";
-}
-
 bool ParameterRange::contains(double v) const {
     return std::isfinite(v) && std::abs(v) <= kMaxCoordinate && (lo_open ? v > lo : v >= lo) && v <= hi;
 }
