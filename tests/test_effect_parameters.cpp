@@ -1,8 +1,9 @@
 // The effects' parameter tables (fx/effect_parameters.hpp) are what the library accepts: for
 // every Number and Integer parameter of every effect, its range's ends are accepted and a
 // value just outside is refused — by the effect's constructor (which checks through the table)
-// and by the scene-file parser (which has checks of its own), each naming the parameter. So a
-// tool that reads the tables (the samples' panel) offers exactly the values cellfx takes.
+// and by the scene-file parser (which reads every parameter through the table), each naming
+// the parameter. So a tool that reads the tables (the samples' panel) offers exactly the values
+// cellfx takes. A change costs what the table says; the docs' tables are generated from it.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -260,4 +261,36 @@ TEST_CASE("Effect parameter tables: a change costs what the table says, and that
     a.set_params(automatic);
     CHECK(a.update(view).mesh);
     CHECK(a.mesh().cell_count() == 16 * 16 * 16);
+}
+
+TEST_CASE("The scene parser reads every effect parameter through its table", "[effects][parameters][scene]") {
+    const auto entry = [](const std::string& type, const std::string& keys) {
+        return R"({"effects": [{"type": ")" + type + R"(", "transfer_function": "../transfer_functions/fire.json", )" + keys +
+               R"(}], "camera": {"eye": [0, -5, 1], "target": [0, 0, 0.7]}})";
+    };
+    // Nested keys, every kind, read exactly.
+    const terrain::Scene scene = parse(entry("search_light", R"("sweep": {"axis": [1, 0, 0], "amplitude_degrees": 20, "period": 2.5}, "segments": 5)"));
+    const auto& beam = std::get<fx::SearchLightParams>(scene.effects[0].params);
+    CHECK(beam.sweep.axis == glm::dvec3(1, 0, 0));
+    CHECK(beam.sweep.amplitude_degrees == 20.0);
+    CHECK(beam.sweep.period == 2.5);
+    CHECK(beam.sweep.phase_degrees == fx::SweepMotion{}.phase_degrees); // the default kept
+    CHECK(beam.segments == 5);
+    const auto& fire = std::get<fx::CampfireParams>(parse(entry("campfire", R"("seed": 4294967295)")).effects[0].params);
+    CHECK(fire.seed == 4294967295u);
+    // Errors name the file, the entry and the key.
+    CHECK_THROWS_WITH(parse(entry("campfire", R"("seed": -1)")), Catch::Contains("fx.json: effects[0].seed: must be in 0..4294967295"));
+    CHECK_THROWS_WITH(parse(entry("campfire", R"("cells_up": 2.5)")), Catch::Contains("fx.json: effects[0].cells_up: expected an integer"));
+    CHECK_THROWS_WITH(parse(entry("campfire", R"("height": "tall")")), Catch::Contains("fx.json: effects[0].height: expected a number"));
+    CHECK_THROWS_WITH(parse(entry("campfire", R"("base_radius": 0)")),
+                      Catch::Contains("fx.json: effects[0].base_radius: must be positive (got 0)"));
+    CHECK_THROWS_WITH(parse(entry("search_light", R"("sweep": {"perod": 2})")), Catch::Contains("fx.json: effects[0].sweep.perod: unknown key"));
+    CHECK_THROWS_WITH(parse(entry("search_light", R"("sweep": 3)")), Catch::Contains("fx.json: effects[0].sweep: expected an object"));
+    CHECK_THROWS_WITH(parse(entry("laser_cone", R"("direction": [0, 0, 0])")),
+                      Catch::Contains("fx.json: effects[0].direction: must be finite and non-zero"));
+    CHECK_THROWS_WITH(parse(entry("volume", R"("shape": "sphere", "size": [1, 1, 1])")),
+                      Catch::Contains("fx.json: effects[0].size: does not apply to a sphere volume with constant density"));
+    CHECK_THROWS_WITH(parse(entry("volume", R"("noise": {"frequency": 1}, "density_mode": "constant")")),
+                      Catch::Contains("fx.json: effects[0].noise.frequency: does not apply to a box volume with constant density"));
+    CHECK_THROWS_WITH(parse(entry("campfire", R"("colour": 1)")), Catch::Contains("fx.json: effects[0].colour: unknown key"));
 }

@@ -127,6 +127,12 @@ ParameterCost change_cost(const Params& from, const Params& to) {
     return cost;
 }
 
+// What is wrong with a value for a parameter of this kind and range ("must be positive (got
+// 0)", "must be finite and non-zero (got 0, 0, 0)"), or "" when it is fine: the one wording of
+// the effects' checks and the scene parser's.
+std::string parameter_problem(ParameterKind kind, const ParameterRange& range, double value);
+std::string parameter_problem(ParameterKind kind, const ParameterRange& range, const glm::dvec3& value);
+
 // Throws fx::Error("<effect>: <name> must be ... (got <value>)") for the first parameter
 // outside its table's range.
 void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range, double value);

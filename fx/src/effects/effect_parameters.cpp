@@ -80,16 +80,20 @@ void set_parameter_value(double* number, int* integer, std::uint32_t* seed, doub
     if (seed) *seed = std::uint32_t(std::llround(std::clamp(value, 0.0, 4294967295.0)));
 }
 
-void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range, double value) {
-    if (range.contains(value)) return;
+std::string parameter_problem(ParameterKind kind, const ParameterRange& range, double value) {
+    if (range.contains(value)) return {};
     std::string what = std::abs(value) > kMaxCoordinate && std::isfinite(value)
                            ? "must be within ±1e18 (the coordinates and sizes cellfx renders)"
                            : range.requirement(kind == ParameterKind::Integer);
-    throw Error(std::string(effect) + ": " + name + " " + what + " (got " + format(value) + ")");
+    return what + " (got " + format(value) + ")";
 }
 
-void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range,
-                     const glm::dvec3& value) {
+void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range, double value) {
+    const std::string problem = parameter_problem(kind, range, value);
+    if (!problem.empty()) throw Error(std::string(effect) + ": " + name + " " + problem);
+}
+
+std::string parameter_problem(ParameterKind kind, const ParameterRange& range, const glm::dvec3& value) {
     bool finite = true, zero = true, in_range = true;
     for (int k = 0; k < 3; ++k) {
         finite = finite && std::isfinite(value[k]) && std::abs(value[k]) <= kMaxCoordinate;
@@ -100,9 +104,14 @@ void check_parameter(const char* effect, const char* name, ParameterKind kind, c
     if (kind == ParameterKind::Vector && !finite) what = "must be finite and within ±1e18 (the coordinates cellfx renders)";
     if (kind == ParameterKind::Direction && (!finite || zero)) what = "must be finite and non-zero";
     if (kind == ParameterKind::Extents && !in_range) what = "must be three positive extents";
-    if (!what) return;
-    throw Error(std::string(effect) + ": " + name + " " + what + " (got " + format(value.x) + ", " + format(value.y) + ", " +
-                format(value.z) + ")");
+    if (!what) return {};
+    return std::string(what) + " (got " + format(value.x) + ", " + format(value.y) + ", " + format(value.z) + ")";
+}
+
+void check_parameter(const char* effect, const char* name, ParameterKind kind, const ParameterRange& range,
+                     const glm::dvec3& value) {
+    const std::string problem = parameter_problem(kind, range, value);
+    if (!problem.empty()) throw Error(std::string(effect) + ": " + name + " " + problem);
 }
 
 template <>
