@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <map>
 #include <sstream>
 #include <variant>
 
@@ -17,6 +19,7 @@
 #include "fx/error.hpp"
 #include "fx/resource_limits.hpp"
 #include "terrain/scene.hpp"
+#include "io_test_helpers.hpp"
 #include "test_paths.hpp"
 #include "cellfx_names.hpp"
 
@@ -293,4 +296,100 @@ TEST_CASE("The scene parser reads every effect parameter through its table", "[e
     CHECK_THROWS_WITH(parse(entry("volume", R"("noise": {"frequency": 1}, "density_mode": "constant")")),
                       Catch::Contains("fx.json: effects[0].noise.frequency: does not apply to a box volume with constant density"));
     CHECK_THROWS_WITH(parse(entry("campfire", R"("colour": 1)")), Catch::Contains("fx.json: effects[0].colour: unknown key"));
+}
+
+namespace {
+
+std::string text(double v) {
+    std::ostringstream out;
+    out.precision(10);
+    out << v;
+    return out.str();
+}
+
+template <class P>
+std::string range_text(const fx::Parameter<P>& p) {
+    const fx::ParameterRange& r = p.range;
+    switch (p.kind) {
+    case fx::ParameterKind::Seed: return "any 32-bit";
+    case fx::ParameterKind::Vector: return "any";
+    case fx::ParameterKind::Direction: return "non-zero";
+    case fx::ParameterKind::Integer: return text(r.lo) + ".." + text(r.hi);
+    case fx::ParameterKind::Number:
+    case fx::ParameterKind::Extents: break;
+    }
+    std::string t;
+    if (r.lo == -fx::kMaxCoordinate && r.hi == fx::kMaxCoordinate) t = "any";
+    else if (r.hi == fx::kMaxCoordinate) t = std::string(r.lo_open ? "> " : "≥ ") + text(r.lo);
+    else t = std::string(r.lo_open ? "(" : "[") + text(r.lo) + ", " + text(r.hi) + "]";
+    return p.kind == fx::ParameterKind::Extents ? "each " + t : t;
+}
+
+// The docs' table of one parameter type, from its table: what docs/effects.md carries.
+template <class P>
+std::string markdown_table() {
+    const P defaults{};
+    std::string out = "| parameter | default | range | unit | what it does | changing it |\n"
+                      "| --- | --- | --- | --- | --- | --- |\n";
+    for (const fx::Parameter<P>& p : fx::parameter_table<P>()) {
+        std::string value;
+        if (p.vector) {
+            const glm::dvec3 v = fx::parameter_vector(p, defaults);
+            value = text(v.x) + ", " + text(v.y) + ", " + text(v.z);
+        } else {
+            value = text(fx::parameter_value(p, defaults));
+        }
+        const std::string cost = p.cost == fx::ParameterCost::Pose ? "pose only" : fx::parameter_cost_name(p.cost);
+        out += "| `" + std::string(p.name) + "` | " + value + " | " + range_text(p) + " | " + (*p.unit ? p.unit : "—") +
+               " | " + p.what + " | " + cost + " |\n";
+    }
+    return out;
+}
+
+// Replaces the block after each "<!-- parameters: NAME" marker line, up to the next
+// "<!-- end of parameters -->", by `tables[NAME]`; counts the blocks replaced.
+std::string with_tables(const std::string& doc, const std::map<std::string, std::string>& tables, int& replaced) {
+    const std::string begin = "<!-- parameters: ", end = "<!-- end of parameters -->";
+    std::string out;
+    std::size_t at = 0;
+    replaced = 0;
+    for (;;) {
+        const std::size_t b = doc.find(begin, at);
+        if (b == std::string::npos) break;
+        const std::size_t name_end = doc.find_first_of(" \n", b + begin.size());
+        const std::size_t line_end = doc.find('\n', b);
+        const std::size_t e = doc.find(end, line_end);
+        REQUIRE(line_end != std::string::npos);
+        REQUIRE(e != std::string::npos);
+        const std::string name = doc.substr(b + begin.size(), name_end - b - begin.size());
+        INFO("docs/effects.md names the parameter table '" << name << "'");
+        REQUIRE(tables.count(name) == 1);
+        out += doc.substr(at, line_end + 1 - at) + tables.at(name);
+        at = e;
+        ++replaced;
+    }
+    return out + doc.substr(at);
+}
+
+} // namespace
+
+TEST_CASE("docs/effects.md's parameter tables are the ones the tables generate", "[effects][parameters][docs]") {
+    // The docs' tables come from the description (name, default, range, unit, what, cost), so
+    // they cannot drift from what the effects accept and what a change costs. When this fails,
+    // the regenerated page is in the test output folder: copy it over docs/effects.md.
+    const std::map<std::string, std::string> tables = {{"campfire", markdown_table<fx::CampfireParams>()},
+                                                       {"search_light", markdown_table<fx::SearchLightParams>()},
+                                                       {"laser_cone", markdown_table<fx::LaserConeParams>()},
+                                                       {"volume", markdown_table<fx::VolumeParams>()}};
+    const std::string doc = fx_test::read_bytes(fx_test::source_path("docs/effects.md"));
+    REQUIRE(!doc.empty());
+    int replaced = 0;
+    const std::string generated = with_tables(doc, tables, replaced);
+    CHECK(replaced == int(tables.size()));
+    if (generated != doc) {
+        const std::string path = fx_test::output_path("effects.md");
+        std::ofstream(path, std::ios::binary | std::ios::trunc) << generated;
+        FAIL("docs/effects.md's parameter tables differ from the tables in fx/src/effects/effect_parameters.cpp; "
+             "the regenerated page: " << path);
+    }
 }

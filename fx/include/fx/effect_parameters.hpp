@@ -57,6 +57,7 @@ struct Parameter {
     ParameterRange range; // Number, Integer; each component of Extents
     ParameterCost cost;
     const char* unit;     // "m", "degrees", "cells", "m/s", ... ("" for a pure number)
+    const char* what;     // what it does, for people (the docs' tables, a tool's tooltip)
     // The field: `number` for Number, `integer` for Integer, `seed` for Seed, `vector` otherwise.
     double* (*number)(Params&) = nullptr;
     int* (*integer)(Params&) = nullptr;
