@@ -34,7 +34,13 @@ layout(binding = UNIT_SCENE_DEPTH) uniform sampler2D u_scene_depth;
 #endif
 
 // The ray through a fragment's pixel centre (gl_FragCoord.xy in the pass's target): the same ray
-// as fx::Camera::pixel_ray, from uniforms linear in x and y (GlProjector::set_view_uniforms).
+// as fx::Camera::pixel_ray, from uniforms linear in the pixel's offset from u_ray_centre, the
+// (window) point whose ray is the view's axis (GlProjector::set_view_uniforms). That point is
+// the whole frame's centre however the frame is cut into off-axis tiles, so a tile's offsets
+// are the whole frame's less a whole number of pixels, subtracted exactly: a pixel gets the same
+// float ray in a tile as in the whole frame (formed from each tile's own corner, they differed
+// by rounding).
+layout(location = UNIFORM_RAY_CENTRE) uniform vec2 u_ray_centre;
 layout(location = UNIFORM_RAY_ORIGIN) uniform vec3 u_ray_origin;
 layout(location = UNIFORM_RAY_ORIGIN_DX) uniform vec3 u_ray_origin_dx;
 layout(location = UNIFORM_RAY_ORIGIN_DY) uniform vec3 u_ray_origin_dy;
@@ -51,8 +57,9 @@ struct Ray {
 };
 Ray fragment_ray(vec2 frag_coord) {
     Ray r;
-    r.origin = u_ray_origin + frag_coord.x * u_ray_origin_dx + frag_coord.y * u_ray_origin_dy;
-    r.dir = normalize(u_ray_direction + frag_coord.x * u_ray_direction_dx + frag_coord.y * u_ray_direction_dy);
+    vec2 q = frag_coord - u_ray_centre;
+    r.origin = u_ray_origin + q.x * u_ray_origin_dx + q.y * u_ray_origin_dy;
+    r.dir = normalize(u_ray_direction + q.x * u_ray_direction_dx + q.y * u_ray_direction_dy);
     return r;
 }
 // Ray parameter where the ray meets the near plane.

@@ -107,7 +107,7 @@ TEST_CASE("Effect entries' errors name the file and the key path", "[scene][effe
     CHECK_THROWS_WITH(parse(effect_scene(R"({"type": "search_light", "sweep": {"period": 0}, )" + kBeam + "}")),
                       Catch::Contains("fx.json: effects[0].sweep.period: must be positive"));
     CHECK_THROWS_WITH(parse(effect_scene(R"({"type": "search_light", "direction": [0, 0, 0], )" + kBeam + "}")),
-                      Catch::Contains("fx.json: effects[0].direction: must not be zero"));
+                      Catch::Contains("fx.json: effects[0].direction: must be finite and non-zero (got 0, 0, 0)"));
     CHECK_THROWS_WITH(parse(effect_scene(R"({"type": "laser_cone", "dust_amount": 2, )" + kBeam + "}")),
                       Catch::Contains("fx.json: effects[0].dust_amount: must be in [0, 1]"));
     CHECK_THROWS_WITH(parse(effect_scene(R"({"type": "ground_fog", )" + kBeam + "}")),

@@ -29,7 +29,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "fx/effect.hpp"
+#include "fx/parametric_effect.hpp"
 
 namespace cellfx::fx {
 
@@ -54,7 +54,7 @@ struct CampfireParams {
 // are never built), known before anything is built: what the effect-cells budget checks.
 std::uint64_t max_cells(const CampfireParams& params);
 
-class Campfire final : public Effect {
+class Campfire final : public ParametricEffect {
 public:
     // Throws fx::Error naming the parameter that is out of range.
     explicit Campfire(const CampfireParams& params = {});
@@ -66,13 +66,14 @@ public:
 
     const CampfireParams& params() const { return params_; }
     // Changes the parameters; the next update() rebuilds the mesh if the shape or grid changed,
-    // otherwise only re-samples the scalars. Throws like the constructor (and keeps the old ones).
+    // re-samples the scalars if the flame's look changed, and only moves it for a new position
+    // (each parameter's cost: fx/effect_parameters.hpp). Throws like the constructor (and keeps
+    // the old ones).
     void set_params(const CampfireParams& params);
 
     // Grid nodes inside the envelope (E > 0): the noise samples one update costs.
     std::size_t active_nodes() const { return active_.size(); }
-    // Time of the scalars in mesh() (NaN before the first update).
-    double sampled_time() const { return sampled_time_; }
+    // sampled_time(): the time of the scalars in mesh() (NaN before the first update).
 
     // The temperature formula at one point and time, without the grid (for tests and tools).
     double temperature_at(const glm::dvec3& local, double time) const;
@@ -81,16 +82,15 @@ public:
     MediumLight medium_light() const override;
 
 private:
-    EffectChanges simulate(const EffectView& view) override;
     Bounds local_bounds() const override;
     glm::dmat4 pose_at(double time) const override;
+    // Time is one of the noise's axes only when the fire moves; a still fire samples once.
+    bool scalars_follow_time() const override { return animated(); }
 
-    void build();
-    void sample(double time);
+    void build_mesh() override;
+    void evaluate_scalars(double time) override;
 
     CampfireParams params_;
-    bool dirty_mesh_ = true, dirty_scalars_ = true;
-    double sampled_time_;
     std::vector<std::uint32_t> active_;   // mesh points with E > 0
     std::vector<double> envelope_;        // E at those points
     std::vector<glm::dvec4> noise_points_; // scratch: noise coordinates

@@ -37,13 +37,7 @@ enum class ParameterKind {
     Extents,   // a dvec3 of lengths, each within `range`
 };
 
-// What a change costs at the effect's next update (docs/effects.md).
-enum class ParameterCost {
-    Pose,    // only the transform: nothing rebuilt or uploaded
-    Scalars, // the scalars are re-evaluated on the same cells
-    Rebuild, // the mesh is built again
-};
-const char* parameter_cost_name(ParameterCost cost); // "pose", "scalars", "rebuild"
+// What a change costs at the effect's next update: fx::ParameterCost (fx/parametric_effect.hpp).
 
 // The values a Number, Integer or Extents component may take: lo ≤ v ≤ hi (lo < v with
 // lo_open), and always finite within ±kMaxCoordinate.
@@ -63,6 +57,7 @@ struct Parameter {
     ParameterRange range; // Number, Integer; each component of Extents
     ParameterCost cost;
     const char* unit;     // "m", "degrees", "cells", "m/s", ... ("" for a pure number)
+    const char* what;     // what it does, for people (the docs' tables, a tool's tooltip)
     // The field: `number` for Number, `integer` for Integer, `seed` for Seed, `vector` otherwise.
     double* (*number)(Params&) = nullptr;
     int* (*integer)(Params&) = nullptr;
@@ -114,6 +109,30 @@ template <class Params>
 glm::dvec3 parameter_vector(const Parameter<Params>& p, const Params& params) {
     return p.vector ? *p.vector(const_cast<Params&>(params)) : glm::dvec3(0.0);
 }
+
+// Whether `p`'s field differs between two parameter sets (exact comparison).
+template <class Params>
+bool parameter_differs(const Parameter<Params>& p, const Params& a, const Params& b) {
+    if (p.vector) return parameter_vector(p, a) != parameter_vector(p, b);
+    return parameter_value(p, a) != parameter_value(p, b);
+}
+
+// What changing `from` into `to` costs: the largest cost of the table's fields that differ
+// (Pose when none does). Fields the table does not describe (a volume's shape, mesh, field or
+// density mode) are the effect's own to compare.
+template <class Params>
+ParameterCost change_cost(const Params& from, const Params& to) {
+    ParameterCost cost = ParameterCost::Pose;
+    for (const Parameter<Params>& p : parameter_table<Params>())
+        if (p.cost > cost && parameter_differs(p, from, to)) cost = p.cost;
+    return cost;
+}
+
+// What is wrong with a value for a parameter of this kind and range ("must be positive (got
+// 0)", "must be finite and non-zero (got 0, 0, 0)"), or "" when it is fine: the one wording of
+// the effects' checks and the scene parser's.
+std::string parameter_problem(ParameterKind kind, const ParameterRange& range, double value);
+std::string parameter_problem(ParameterKind kind, const ParameterRange& range, const glm::dvec3& value);
 
 // Throws fx::Error("<effect>: <name> must be ... (got <value>)") for the first parameter
 // outside its table's range.

@@ -22,7 +22,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "fx/effect.hpp"
+#include "fx/parametric_effect.hpp"
 
 namespace cellfx::fx {
 
@@ -47,7 +47,7 @@ struct LaserConeParams {
 // effect-cells budget checks.
 std::uint64_t max_cells(const LaserConeParams& params);
 
-class LaserCone final : public Effect {
+class LaserCone final : public ParametricEffect {
 public:
     // Throws fx::Error naming the parameter that is out of range.
     explicit LaserCone(const LaserConeParams& params = {});
@@ -59,8 +59,8 @@ public:
 
     const LaserConeParams& params() const { return params_; }
     // Changes the parameters: range, radius, divergence or resolution rebuild the mesh; the
-    // others re-evaluate the scalars; position and direction cost nothing. Throws like the
-    // constructor and keeps the old ones.
+    // others re-evaluate the scalars; position and direction cost nothing (each parameter's
+    // cost: fx/effect_parameters.hpp). Throws like the constructor and keeps the old ones.
     void set_params(const LaserConeParams& params);
     void set_pose(const glm::dvec3& position, const glm::dvec3& direction);
 
@@ -69,16 +69,14 @@ public:
 
 private:
     bool dusty() const { return params_.dust_amount > 0.0; }
-    EffectChanges simulate(const EffectView& view) override;
     Bounds local_bounds() const override;
     glm::dmat4 pose_at(double time) const override;
+    bool scalars_follow_time() const override { return animated(); }
 
-    void build();
-    void evaluate(double time);
+    void build_mesh() override;
+    void evaluate_scalars(double time) override;
 
     LaserConeParams params_;
-    bool dirty_mesh_ = true, dirty_scalars_ = true;
-    double sampled_time_ = 0.0;
     std::vector<double> along_, across_;
     std::vector<glm::dvec3> dust_points_;
     std::vector<float> dust_;

@@ -28,7 +28,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "fx/effect.hpp"
+#include "fx/parametric_effect.hpp"
 
 namespace cellfx::fx {
 
@@ -58,7 +58,7 @@ struct SearchLightParams {
 // what the effect-cells budget checks.
 std::uint64_t max_cells(const SearchLightParams& params);
 
-class SearchLight final : public Effect {
+class SearchLight final : public ParametricEffect {
 public:
     // Throws fx::Error naming the parameter that is out of range.
     explicit SearchLight(const SearchLightParams& params = {});
@@ -69,8 +69,8 @@ public:
     ScalarRange scalar_range() const override { return {0.0f, float(params_.intensity)}; }
 
     const SearchLightParams& params() const { return params_; }
-    // Changes the parameters (see the header comment for what each change costs). Throws like
-    // the constructor and keeps the old ones.
+    // Changes the parameters (see the header comment, and fx/effect_parameters.hpp, for what
+    // each change costs). Throws like the constructor and keeps the old ones.
     void set_params(const SearchLightParams& params);
     // Moves the lens and turns the beam in the parent's frame: costs no rebuild.
     void set_pose(const glm::dvec3& position, const glm::dvec3& direction);
@@ -83,15 +83,13 @@ public:
     MediumLight medium_light() const override;
 
 private:
-    EffectChanges simulate(const EffectView& view) override;
     Bounds local_bounds() const override;
     glm::dmat4 pose_at(double time) const override;
 
-    void build();
-    void evaluate();
+    void build_mesh() override;
+    void evaluate_scalars(double time) override; // the sweep moves the pose, never the scalars
 
     SearchLightParams params_;
-    bool dirty_mesh_ = true, dirty_scalars_ = true;
     std::vector<double> along_, across_; // per point, from the cone builder
 };
 

@@ -37,7 +37,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "fx/effect.hpp"
+#include "fx/parametric_effect.hpp"
 
 namespace cellfx::fx {
 
@@ -75,7 +75,7 @@ struct VolumeParams {
 // The cells these parameters build, known before building: what the effect-cells budget checks.
 std::uint64_t max_cells(const VolumeParams& params);
 
-class Volume final : public Effect {
+class Volume final : public ParametricEffect {
 public:
     // Throws fx::Error naming the parameter that is wrong (a mesh without cells, a field it
     // lacks, a density "field" on a box, ...).
@@ -88,8 +88,9 @@ public:
 
     const VolumeParams& params() const { return params_; }
     // Changes the parameters: the shape, its size or resolution rebuild the mesh; the density
-    // re-evaluates the scalars; position and rotation only move it. Throws like the constructor
-    // and keeps the old ones.
+    // re-evaluates the scalars; position and rotation only move it (each parameter's cost:
+    // fx/effect_parameters.hpp; a new shape, mesh or field rebuilds, a new density mode
+    // re-evaluates). Throws like the constructor and keeps the old ones.
     void set_params(const VolumeParams& params);
 
     // The density formula at one local point and time, without the mesh (tests and tools; not
@@ -97,18 +98,16 @@ public:
     double density_at(const glm::dvec3& local, double time) const;
 
 private:
-    EffectChanges simulate(const EffectView& view) override;
     Bounds local_bounds() const override;
     glm::dmat4 pose_at(double time) const override;
+    bool scalars_follow_time() const override { return animated(); }
 
-    void build();
-    void evaluate(double time);
+    void build_mesh() override;
+    void evaluate_scalars(double time) override;
 
     VolumeParams params_;
     ScalarRange field_range_;      // shape mesh: the field's range
     std::vector<float> field_;     // shape mesh: the field at its points
-    bool dirty_mesh_ = true, dirty_scalars_ = true;
-    double sampled_time_ = 0.0;
     std::vector<glm::dvec4> noise_points_; // scratch
     std::vector<float> noise_values_;      // scratch
 };

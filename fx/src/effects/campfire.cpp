@@ -22,11 +22,6 @@ void validate(const CampfireParams& p) {
     check_effect_cells(max_cells(p), "campfire: cells_across² × cells_up");
 }
 
-bool same_shape(const CampfireParams& a, const CampfireParams& b) {
-    return a.base_radius == b.base_radius && a.height == b.height && a.taper == b.taper &&
-           a.cells_across == b.cells_across && a.cells_up == b.cells_up;
-}
-
 // The envelope E (header comment) at a local point.
 double envelope(const CampfireParams& p, const glm::dvec3& q) {
     const double h = q.z / p.height;
@@ -62,14 +57,13 @@ std::uint64_t max_cells(const CampfireParams& p) {
 }
 
 Campfire::Campfire(const CampfireParams& params)
-    : Effect("temperature"), params_(params), sampled_time_(std::numeric_limits<double>::quiet_NaN()) {
+    : ParametricEffect("temperature"), params_(params) {
     validate(params_);
 }
 
 void Campfire::set_params(const CampfireParams& params) {
     validate(params);
-    if (!same_shape(params, params_)) dirty_mesh_ = true;
-    dirty_scalars_ = true;
+    parameters_changed(change_cost(params_, params));
     params_ = params;
 }
 
@@ -97,7 +91,7 @@ double Campfire::temperature_at(const glm::dvec3& local, double time) const {
     return temperature(params_, e, noise.fractal4(fractal_of(params_), q.x, q.y, q.z, q.w));
 }
 
-void Campfire::build() {
+void Campfire::build_mesh() {
     const CampfireParams& p = params_;
     const int n = p.cells_across, nz = p.cells_up;
     const int nodes_x = n + 1;
@@ -144,12 +138,10 @@ void Campfire::build() {
                                             point(i + 1, j + 1, k + 1), point(i, j + 1, k + 1)};
                 mesh.add_cell(CellType::Hexahedron, v);
             }
-    mesh.scalars.push_back({scalar_name(), std::vector<float>(mesh.points.size(), 0.0f)});
     mesh_ = std::move(mesh);
-    count_build();
 }
 
-void Campfire::sample(double time) {
+void Campfire::evaluate_scalars(double time) {
     noise_points_.resize(active_.size());
     noise_values_.resize(active_.size());
     for (std::size_t a = 0; a < active_.size(); ++a) noise_points_[a] = noise_point(params_, mesh_.points[active_[a]], time);
@@ -157,28 +149,6 @@ void Campfire::sample(double time) {
     count_noise(active_.size());
     std::vector<float>& t = mesh_.scalars[0].values;
     for (std::size_t a = 0; a < active_.size(); ++a) t[active_[a]] = temperature(params_, envelope_[a], noise_values_[a]);
-    sampled_time_ = time;
-}
-
-EffectChanges Campfire::simulate(const EffectView& view) {
-    EffectChanges changes;
-    if (dirty_mesh_) {
-        build();
-        dirty_mesh_ = false;
-        dirty_scalars_ = true;
-        changes.mesh = true;
-    }
-    // Time is one of the noise's axes only when the fire moves; a still fire samples once.
-    const bool time_matters = animated() && view.time != sampled_time_;
-    if (dirty_scalars_ || time_matters) {
-        sample(view.time);
-        dirty_scalars_ = false;
-        if (!changes.mesh) {
-            changes.scalars = true;
-            count_scalar_update();
-        }
-    }
-    return changes;
 }
 
 } // namespace cellfx::fx

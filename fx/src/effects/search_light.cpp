@@ -33,23 +33,17 @@ effects::ConeShape shape_of(const SearchLightParams& p) {
     return {p.range, p.lens_radius, p.spread_degrees * kDegrees, p.segments, p.rings, p.slices};
 }
 
-bool same_shape(const SearchLightParams& a, const SearchLightParams& b) {
-    return a.range == b.range && a.spread_degrees == b.spread_degrees && a.lens_radius == b.lens_radius &&
-           a.segments == b.segments && a.rings == b.rings && a.slices == b.slices;
-}
-
 } // namespace
 
 std::uint64_t max_cells(const SearchLightParams& p) {
     return std::uint64_t(std::max(p.segments, 0)) * std::uint64_t(std::max(p.rings, 0)) * std::uint64_t(std::max(p.slices, 0));
 }
 
-SearchLight::SearchLight(const SearchLightParams& params) : Effect("intensity"), params_(params) { validate(params_); }
+SearchLight::SearchLight(const SearchLightParams& params) : ParametricEffect("intensity"), params_(params) { validate(params_); }
 
 void SearchLight::set_params(const SearchLightParams& params) {
     validate(params);
-    if (!same_shape(params, params_)) dirty_mesh_ = true;
-    if (params.intensity != params_.intensity) dirty_scalars_ = true;
+    parameters_changed(change_cost(params_, params));
     params_ = params;
 }
 
@@ -77,36 +71,19 @@ MediumLight SearchLight::medium_light() const { return effects::cone_light(shape
 
 Bounds SearchLight::local_bounds() const { return effects::cone_bounds(shape_of(params_)); }
 
-void SearchLight::build() {
+void SearchLight::build_mesh() {
     effects::ConeMesh cone = effects::build_cone_mesh(shape_of(params_));
     mesh_ = std::move(cone.mesh);
     along_ = std::move(cone.along);
     across_ = std::move(cone.across);
-    mesh_.scalars.push_back({scalar_name(), std::vector<float>(mesh_.points.size(), 0.0f)});
-    evaluate();
-    count_build();
 }
 
-void SearchLight::evaluate() {
+void SearchLight::evaluate_scalars(double) {
     std::vector<float>& v = mesh_.scalars[0].values;
     for (std::size_t i = 0; i < v.size(); ++i) {
         const double a = 1.0 - along_[i], b = across_[i];
         v[i] = float(params_.intensity * a * a * (1.0 - b * b));
     }
-}
-
-EffectChanges SearchLight::simulate(const EffectView&) {
-    EffectChanges changes;
-    if (dirty_mesh_) {
-        build();
-        changes.mesh = true;
-    } else if (dirty_scalars_) {
-        evaluate();
-        count_scalar_update();
-        changes.scalars = true;
-    }
-    dirty_mesh_ = dirty_scalars_ = false;
-    return changes;
 }
 
 } // namespace cellfx::fx

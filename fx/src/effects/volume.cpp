@@ -67,16 +67,16 @@ void validate(const VolumeParams& p) {
     check_effect_cells(max_cells(p), "volume: cells");
 }
 
-bool same_shape(const VolumeParams& a, const VolumeParams& b) {
-    return a.shape == b.shape && a.size == b.size && a.radius == b.radius && a.mesh == b.mesh && a.field == b.field &&
-           cells_of(a) == cells_of(b) && (a.shape != VolumeShape::Mesh || a.density_mode == b.density_mode);
-}
-
-bool same_density(const VolumeParams& a, const VolumeParams& b) {
-    const VolumeNoise &m = a.noise, &n = b.noise;
-    return a.density_mode == b.density_mode && a.density == b.density && a.edge_fade == b.edge_fade && a.field == b.field &&
-           m.frequency == n.frequency && m.octaves == n.octaves && m.coverage == n.coverage && m.contrast == n.contrast &&
-           m.drift == n.drift && m.evolve == n.evolve && m.seed == n.seed;
+// What changing a into b costs: the table's fields (fx::change_cost), and the ones it does not
+// describe. A new shape, mesh or field rebuilds (a mesh's field is copied when it is built, so
+// on a mesh a new density mode does too), as does a new automatic cell count (`cells` 0 follows
+// the density mode and the edge fade); elsewhere a new density mode re-evaluates.
+ParameterCost volume_change_cost(const VolumeParams& a, const VolumeParams& b) {
+    if (a.shape != b.shape || a.mesh != b.mesh || a.field != b.field || cells_of(a) != cells_of(b) ||
+        (a.shape == VolumeShape::Mesh && a.density_mode != b.density_mode))
+        return ParameterCost::Rebuild;
+    const ParameterCost cost = change_cost(a, b);
+    return a.density_mode != b.density_mode ? std::max(cost, ParameterCost::Scalars) : cost;
 }
 
 Fractal fractal_of(const VolumeNoise& n) {
@@ -221,7 +221,7 @@ const char* volume_density_name(VolumeDensity density) {
     return "?";
 }
 
-Volume::Volume(const VolumeParams& params) : Effect("density"), params_(params) {
+Volume::Volume(const VolumeParams& params) : ParametricEffect("density"), params_(params) {
     validate(params_);
     if (params_.shape == VolumeShape::Mesh && params_.density_mode == VolumeDensity::Field) {
         const ScalarField* f = params_.field.empty() ? &params_.mesh->scalars[0] : params_.mesh->find_scalar(params_.field);
@@ -231,8 +231,7 @@ Volume::Volume(const VolumeParams& params) : Effect("density"), params_(params) 
 
 void Volume::set_params(const VolumeParams& params) {
     Volume check(params); // validates, and the field's range
-    if (!same_shape(params, params_)) dirty_mesh_ = true;
-    if (!same_density(params, params_)) dirty_scalars_ = true;
+    parameters_changed(volume_change_cost(params_, params));
     params_ = params;
     field_range_ = check.field_range_;
 }
@@ -274,7 +273,7 @@ double Volume::density_at(const glm::dvec3& local, double time) const {
     return p.density * std::clamp(p.noise.coverage + p.noise.contrast * n, 0.0, 1.0) * e;
 }
 
-void Volume::build() {
+void Volume::build_mesh() {
     const VolumeParams& p = params_;
     field_.clear();
     if (p.shape == VolumeShape::Box) {
@@ -289,11 +288,9 @@ void Volume::build() {
         orient_cells(m);
         mesh_ = std::move(m);
     }
-    mesh_.scalars.push_back({scalar_name(), std::vector<float>(mesh_.points.size(), 0.0f)});
-    count_build();
 }
 
-void Volume::evaluate(double time) {
+void Volume::evaluate_scalars(double time) {
     const VolumeParams& p = params_;
     std::vector<float>& d = mesh_.scalars[0].values;
     const std::size_t n = mesh_.points.size();
@@ -312,26 +309,6 @@ void Volume::evaluate(double time) {
             d[i] = float(p.density * std::clamp(p.noise.coverage + p.noise.contrast * double(noise_values_[i]), 0.0, 1.0) * e);
         }
     }
-    sampled_time_ = time;
-}
-
-EffectChanges Volume::simulate(const EffectView& view) {
-    EffectChanges changes;
-    if (dirty_mesh_) {
-        build();
-        dirty_mesh_ = false;
-        dirty_scalars_ = true;
-        changes.mesh = true;
-    }
-    if (dirty_scalars_ || (animated() && view.time != sampled_time_)) {
-        evaluate(view.time);
-        dirty_scalars_ = false;
-        if (!changes.mesh) {
-            changes.scalars = true;
-            count_scalar_update();
-        }
-    }
-    return changes;
 }
 
 } // namespace cellfx::fx

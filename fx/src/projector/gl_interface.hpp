@@ -67,12 +67,13 @@ namespace cellfx::fx {
     X(kUniformSceneDepthRange, UNIFORM_SCENE_DEPTH_RANGE, 21)                                      \
     X(kUniformSceneOrigin, UNIFORM_SCENE_ORIGIN, 22)                                               \
     X(kUniformResolveOrigin, UNIFORM_RESOLVE_ORIGIN, 30)                                           \
-    X(kUniformRayOrigin, UNIFORM_RAY_ORIGIN, 40)       /* ray of window pixel (x, y): origin = */  \
-    X(kUniformRayOriginDx, UNIFORM_RAY_ORIGIN_DX, 41)  /* o + x·o_dx + y·o_dy, direction = */      \
+    X(kUniformRayOrigin, UNIFORM_RAY_ORIGIN, 40)       /* ray of window pixel c + (x, y): */       \
+    X(kUniformRayOriginDx, UNIFORM_RAY_ORIGIN_DX, 41)  /* origin o + x·o_dx + y·o_dy, direction */ \
     X(kUniformRayOriginDy, UNIFORM_RAY_ORIGIN_DY, 42)  /* normalize(d + x·d_dx + y·d_dy), */       \
     X(kUniformRayDirection, UNIFORM_RAY_DIRECTION, 43) /* relative frame */                        \
     X(kUniformRayDirectionDx, UNIFORM_RAY_DIRECTION_DX, 44)                                        \
     X(kUniformRayDirectionDy, UNIFORM_RAY_DIRECTION_DY, 45)                                        \
+    X(kUniformRayCentre, UNIFORM_RAY_CENTRE, 46)       /* c: the pixel whose ray is the view axis */ \
     /* the tables' compute pass */                                                                 \
     X(kUniformTableCells, UNIFORM_TABLE_CELLS, 50)     /* cells in the mesh */                     \
     X(kUniformTableBuilt, UNIFORM_TABLE_BUILT, 51)     /* stamp the tables were last built at */   \

@@ -853,6 +853,7 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
     const glm::dvec3 f = v.forward;
     const double w = viewport.width, h = viewport.height;
     glm::dvec3 origin = v.eye, origin_dx(0.0), origin_dy(0.0), direction = f, direction_dx(0.0), direction_dy(0.0);
+    glm::dvec2 centre(0.0); // below
     if (camera.projection) {
         // An explicit (possibly off-axis) projection: the pixel's point on the near plane, back
         // through both matrices, is linear in x and y (w is constant on that plane).
@@ -883,6 +884,31 @@ void GlProjector::set_view_uniforms(const gl::Program& program, const Camera& ca
             direction += at_origin, direction_dx = step_x, direction_dy = step_y;
         }
     }
+    // From the view's axis rather than the pass's corner: the pixel c where the ray runs along
+    // `forward` (perspective: its direction has no right or up part; orthographic: its origin
+    // is the eye), the direction scaled to a unit forward part. For a symmetric view c is the
+    // viewport's centre; for an off-axis tile of a larger frame it is that frame's centre in
+    // the tile's pixels, so every tile, and the whole frame, hand the shader the same axis ray
+    // and steps, and pixel offsets from c that differ by whole pixels (project.glsl).
+    {
+        const glm::dvec3 right(v.view[0][0], v.view[1][0], v.view[2][0]), up(v.view[0][1], v.view[1][1], v.view[2][1]);
+        const bool ortho = camera.orthographic();
+        const glm::dvec3 at = ortho ? origin - v.eye : direction, along_x = ortho ? origin_dx : direction_dx,
+                         along_y = ortho ? origin_dy : direction_dy;
+        // Solve at + cx·along_x + cy·along_y ⟂ right, up.
+        const double a = glm::dot(along_x, right), b = glm::dot(along_y, right), c = glm::dot(along_x, up),
+                     d = glm::dot(along_y, up);
+        const double det = a * d - b * c;
+        const double rx = -glm::dot(at, right), ry = -glm::dot(at, up);
+        centre = det != 0.0 ? glm::dvec2((rx * d - b * ry) / det, (a * ry - c * rx) / det) : glm::dvec2(0.0);
+        origin += centre.x * origin_dx + centre.y * origin_dy;
+        direction += centre.x * direction_dx + centre.y * direction_dy;
+        if (!ortho) {
+            const double k = glm::dot(direction, f); // > 0: the axis ray looks ahead
+            if (k > 0.0) direction /= k, direction_dx /= k, direction_dy /= k;
+        }
+    }
+    glProgramUniform2f(p, kUniformRayCentre, float(centre.x), float(centre.y));
     const std::pair<GLint, glm::dvec3> rays[] = {
         {kUniformRayOrigin, origin},       {kUniformRayOriginDx, origin_dx},       {kUniformRayOriginDy, origin_dy},
         {kUniformRayDirection, direction}, {kUniformRayDirectionDx, direction_dx}, {kUniformRayDirectionDy, direction_dy}};

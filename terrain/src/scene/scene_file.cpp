@@ -341,14 +341,6 @@ AuroraSpec parse_aurora(Section s, SceneFiles& files) {
     return a;
 }
 
-glm::dvec3 direction(Section& s, const std::string& key, const glm::dvec3& fallback) {
-    const glm::dvec3 d = s.vector<3>(key, fallback);
-    if (d == glm::dvec3(0.0)) throw s.error(key, "must not be zero");
-    return d;
-}
-
-int bounded(Section& s, const std::string& key, int fallback, int lo, int hi) { return int(s.integer(key, fallback, lo, hi)); }
-
 double non_negative(Section& s, const std::string& key, double fallback) {
     const double d = s.number(key, fallback);
     if (d < 0.0) throw s.error(key, "must not be negative");
@@ -361,66 +353,74 @@ double in_range(Section& s, const std::string& key, double fallback, double lo, 
     return d;
 }
 
+// Reads the parameters of P's table (fx/effect_parameters.hpp) that the entry gives, over the
+// defaults in `params`: key "a.b" is key b of the object a (whose other keys are refused as
+// unknown). Each value is checked against the table's kind and range, errors naming the key; a
+// key for a parameter that does not apply to these parameters (a sphere's size) is refused
+// with `does_not_apply`.
+template <class P>
+void parse_params(Section& s, P& params, const std::string& does_not_apply) {
+    std::map<std::string, Section> objects; // "sweep", "noise": read once each
+    for (const fx::Parameter<P>& p : fx::parameter_table<P>()) {
+        const std::string name = p.name;
+        const std::size_t dot = name.find('.');
+        Section* in = &s;
+        std::string key = name;
+        if (dot != std::string::npos) {
+            const std::string parent = name.substr(0, dot);
+            if (!s.has(parent)) continue;
+            auto found = objects.find(parent);
+            if (found == objects.end()) found = objects.emplace(parent, s.object(parent)).first;
+            in = &found->second;
+            key = name.substr(dot + 1);
+        }
+        if (!in->has(key)) continue;
+        if (!p.applies_to(params)) throw in->error(key, does_not_apply);
+        std::string problem;
+        if (p.vector) {
+            const glm::dvec3 v = in->vector<3>(key);
+            problem = fx::parameter_problem(p.kind, p.range, v);
+            *p.vector(params) = v;
+        } else if (p.kind == fx::ParameterKind::Number) {
+            const double v = in->number(key);
+            problem = fx::parameter_problem(p.kind, p.range, v);
+            *p.number(params) = v;
+        } else {
+            // Integers and seeds: whole numbers (a seed any std::uint32_t), read exactly.
+            const json& v = in->at(key);
+            if (!v.is_number_integer()) throw in->error(key, "expected an integer");
+            const bool seed = p.kind == fx::ParameterKind::Seed;
+            const double lo = seed ? 0.0 : p.range.lo, hi = seed ? 4294967295.0 : p.range.hi;
+            const bool negative = v.is_number_unsigned() ? false : v.get<std::int64_t>() < 0;
+            const double d = negative ? double(v.get<std::int64_t>()) : double(v.get<std::uint64_t>());
+            if (d < lo || d > hi) problem = "must be in " + std::to_string(std::int64_t(lo)) + ".." + std::to_string(std::int64_t(hi)) + " (got " + v.dump() + ")";
+            else fx::set_parameter_value(p, params, d);
+        }
+        if (!problem.empty()) throw in->error(key, problem);
+    }
+    for (const auto& object : objects) object.second.finish();
+}
+
 fx::CampfireParams parse_campfire(Section& s) {
     fx::CampfireParams p;
-    p.position = s.vector<3>("position", p.position);
-    p.base_radius = s.positive("base_radius", p.base_radius);
-    p.height = s.positive("height", p.height);
-    p.taper = non_negative(s, "taper", p.taper);
-    p.cells_across = bounded(s, "cells_across", p.cells_across, 2, 256);
-    p.cells_up = bounded(s, "cells_up", p.cells_up, 1, 256);
-    p.intensity = non_negative(s, "intensity", p.intensity);
-    p.turbulence = non_negative(s, "turbulence", p.turbulence);
-    p.noise_frequency = s.positive("noise_frequency", p.noise_frequency);
-    p.noise_stretch = s.positive("noise_stretch", p.noise_stretch);
-    p.noise_octaves = bounded(s, "noise_octaves", p.noise_octaves, 1, 8);
-    p.rise_speed = s.number("rise_speed", p.rise_speed);
-    p.flicker_rate = s.number("flicker_rate", p.flicker_rate);
-    p.seed = std::uint32_t(s.integer("seed", p.seed, 0, 0xffffffffL));
+    parse_params(s, p, "");
     return p;
 }
 
 fx::SearchLightParams parse_search_light(Section& s) {
     fx::SearchLightParams p;
-    p.position = s.vector<3>("position", p.position);
-    p.direction = direction(s, "direction", p.direction);
-    p.range = s.positive("range", p.range);
-    p.spread_degrees = in_range(s, "spread_degrees", p.spread_degrees, 0.0, 60.0);
-    p.lens_radius = s.positive("lens_radius", p.lens_radius);
-    p.intensity = non_negative(s, "intensity", p.intensity);
-    p.segments = bounded(s, "segments", p.segments, 3, 256);
-    p.rings = bounded(s, "rings", p.rings, 1, 64);
-    p.slices = bounded(s, "slices", p.slices, 1, 1024);
-    if (s.has("sweep")) {
-        Section w = s.object("sweep");
-        p.sweep.axis = direction(w, "axis", p.sweep.axis);
-        p.sweep.amplitude_degrees = in_range(w, "amplitude_degrees", p.sweep.amplitude_degrees, 0.0, 180.0);
-        p.sweep.period = w.positive("period", p.sweep.period);
-        p.sweep.phase_degrees = w.number("phase_degrees", p.sweep.phase_degrees);
-        w.finish();
-    }
+    parse_params(s, p, "");
     return p;
 }
 
 fx::LaserConeParams parse_laser_cone(Section& s) {
     fx::LaserConeParams p;
-    p.position = s.vector<3>("position", p.position);
-    p.direction = direction(s, "direction", p.direction);
-    p.range = s.positive("range", p.range);
-    p.radius = s.positive("radius", p.radius);
-    p.divergence_degrees = in_range(s, "divergence_degrees", p.divergence_degrees, 0.0, 10.0);
-    p.intensity = non_negative(s, "intensity", p.intensity);
-    p.end_fade = in_range(s, "end_fade", p.end_fade, 0.0, 1.0);
-    p.segments = bounded(s, "segments", p.segments, 3, 64);
-    p.slices = bounded(s, "slices", p.slices, 1, 4096);
-    p.dust_amount = in_range(s, "dust_amount", p.dust_amount, 0.0, 1.0);
-    p.dust_frequency = s.positive("dust_frequency", p.dust_frequency);
-    p.dust_octaves = bounded(s, "dust_octaves", p.dust_octaves, 1, 8);
-    p.dust_drift = s.vector<3>("dust_drift", p.dust_drift);
-    p.seed = std::uint32_t(s.integer("seed", p.seed, 0, 0xffffffffL));
+    parse_params(s, p, "");
     return p;
 }
 
+// A volume's shape, mesh and density mode (not in its table) come first: they decide which of
+// its table's parameters apply.
 fx::VolumeParams parse_volume(Section& s, const SceneFiles& files) {
     fx::VolumeParams p;
     const std::string shape = s.string("shape", std::string("box"));
@@ -428,13 +428,6 @@ fx::VolumeParams parse_volume(Section& s, const SceneFiles& files) {
     else if (shape == "sphere") p.shape = fx::VolumeShape::Sphere;
     else if (shape == "mesh") p.shape = fx::VolumeShape::Mesh;
     else throw s.error("shape", "unknown shape '" + shape + "' (expected box, sphere, mesh)");
-    p.position = s.vector<3>("position", p.position);
-    p.rotation_degrees = s.vector<3>("rotation_degrees", p.rotation_degrees);
-    if (p.shape == fx::VolumeShape::Box) {
-        p.size = s.vector<3>("size", p.size);
-        if (!(p.size.x > 0.0 && p.size.y > 0.0 && p.size.z > 0.0)) throw s.error("size", "must be three positive extents");
-    }
-    if (p.shape == fx::VolumeShape::Sphere) p.radius = s.positive("radius", p.radius);
     if (p.shape == fx::VolumeShape::Mesh) {
         const std::string file = files.resolve(s.string("mesh"));
         const std::string q_file = s.has("q_file") ? files.resolve(s.string("q_file")) : std::string();
@@ -445,9 +438,6 @@ fx::VolumeParams parse_volume(Section& s, const SceneFiles& files) {
         }
         p.field = s.string("field", std::string());
     }
-    p.cells = bounded(s, "cells", p.cells, 0, 256);
-    p.density = non_negative(s, "density", p.density);
-    p.edge_fade = in_range(s, "edge_fade", p.edge_fade, 0.0, 1.0);
     // The density's kind: as given, else noise when a "noise" object is, else a mesh's field.
     p.density_mode = s.has("noise") ? fx::VolumeDensity::Noise
                      : p.shape == fx::VolumeShape::Mesh ? fx::VolumeDensity::Field
@@ -459,18 +449,8 @@ fx::VolumeParams parse_volume(Section& s, const SceneFiles& files) {
         else if (mode == "field") p.density_mode = fx::VolumeDensity::Field;
         else throw s.error("density_mode", "unknown density '" + mode + "' (expected constant, noise, field)");
     }
-    if (s.has("noise")) {
-        Section n = s.object("noise");
-        fx::VolumeNoise& v = p.noise;
-        v.frequency = n.positive("frequency", v.frequency);
-        v.octaves = bounded(n, "octaves", v.octaves, 1, 8);
-        v.coverage = in_range(n, "coverage", v.coverage, 0.0, 1.0);
-        v.contrast = non_negative(n, "contrast", v.contrast);
-        v.drift = n.vector<3>("drift", v.drift);
-        v.evolve = n.number("evolve", v.evolve);
-        v.seed = std::uint32_t(n.integer("seed", v.seed, 0, 0xffffffffL));
-        n.finish();
-    }
+    parse_params(s, p, std::string("does not apply to a ") + fx::volume_shape_name(p.shape) + " volume with " +
+                           fx::volume_density_name(p.density_mode) + " density");
     return p;
 }
 
