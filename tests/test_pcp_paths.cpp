@@ -259,7 +259,7 @@ TEST_CASE("the frame's clear and resolve cover the pixels the mesh can cover, an
     const fx::CellMesh mesh = box_with_linear_field(3, {0, 0, 0}, {1, 1, 1}, {0.3, 0.2, 0.5}, 0.1);
     const fx::TransferFunction tf({{0.0, {0.2, 0.5, 1.0}, 0.5}, {1.0, {1.0, 0.8, 0.3}, 1.5}});
     fx::CellRenderer r(mesh, "s", tf);
-    const fx::GlProjector& projector = fx::ProjectorAccess::projector(r);
+    const fx::GlProjector& projector = fx::renderer_projector(r);
     const int w = 96, h = 64;
     const fx::Viewport viewport{0, 0, w, h};
     // Far and off to one side: a small rectangle; every pixel the mesh covers lies in it, and

@@ -220,7 +220,7 @@ void FroxelMedium::inject(CellRenderer& renderer, const glm::dmat4& world_from_l
     const auto start = Clock::now();
     gl::StateGuard guard;
     gl::StateGuard::set_render_defaults();
-    GlProjector& projector = ProjectorAccess::projector(renderer);
+    GlProjector& projector = renderer_projector(renderer);
     const gl::Program*& program = m.inject_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!program) // linked on first use (once per context: the cache shares it)
         program = &m.program_cache->program(projector_shader_library(), {"cells.vert", "froxel_inject.frag"},
@@ -343,7 +343,7 @@ void FroxelMedium::draw_emission(CellRenderer& renderer, const glm::dmat4& world
     const auto start = Clock::now();
     gl::StateGuard guard;
     gl::StateGuard::set_render_defaults();
-    GlProjector& projector = ProjectorAccess::projector(renderer);
+    GlProjector& projector = renderer_projector(renderer);
     ProgramVariants& variants = m.emission_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!variants.plain) {
         gl::Defines defines = projector.mesh_defines();

@@ -313,7 +313,7 @@ void MediumCompositor::Impl::clear_mask() {
 }
 
 void MediumCompositor::Impl::draw_append(const Append& a) {
-    GlProjector& projector = ProjectorAccess::projector(*a.renderer);
+    GlProjector& projector = renderer_projector(*a.renderer);
     ProgramVariants& variants = append_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!variants.plain) { // linked on first use (once per context: the cache shares them)
         gl::Defines defines = projector.mesh_defines();
