@@ -12,7 +12,7 @@
 #include <epoxy/gl.h>
 
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "gl/composite_pass.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"

@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "projector/gl_projector.hpp"

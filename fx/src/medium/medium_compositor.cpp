@@ -18,7 +18,7 @@
 
 #include "fx/effect.hpp" // camera_in_frame
 #include "fx/error.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/program_cache.hpp"
