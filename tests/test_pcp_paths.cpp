@@ -1,7 +1,7 @@
 // Frame tests of the PCP, PCP-exact and MIP paths (headless GL, llvmpipe on CPU machines)
 // against closed forms: boxes of hexahedra with a scalar linear in space, where the exact
 // per-pixel answer is the transfer function's segment integral over the ray's chord through
-// the box (fx/segment_integral.hpp, the CPU's one source of truth).
+// the box (fx/src/transfer/segment_integral.hpp, the CPU's one source of truth).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
