@@ -7,7 +7,7 @@
 
 layout(binding = 0) uniform sampler2D u_image; // premultiplied, linear
 #ifndef COMPOSITE_OVER_FRAMEBUFFER
-layout(location = 0) uniform vec3 u_background;
+layout(location = UNIFORM_BACKGROUND) uniform vec3 u_background; // gl/composite_pass.cpp
 #endif
 
 layout(location = 0) in vec2 v_uv;

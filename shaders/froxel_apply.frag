@@ -9,9 +9,9 @@
 #include "froxel_grid.glsl"
 
 layout(binding = 1) uniform sampler2D u_scene_depth; // canonical window depth (0: none, see u_depth)
-layout(location = 0) uniform vec4 u_viewport;        // x, y, width, height in the framebuffer
-layout(location = 1) uniform ivec2 u_depth_origin;   // texel of the viewport's pixel (0, 0)
-layout(location = 2) uniform vec3 u_depth;           // near, far, 0 none / 1 perspective / 2 orthographic
+layout(location = UNIFORM_FROXEL_APPLY_VIEWPORT) uniform vec4 u_viewport;         // x, y, width, height in the framebuffer
+layout(location = UNIFORM_FROXEL_APPLY_DEPTH_ORIGIN) uniform ivec2 u_depth_origin; // texel of the viewport's pixel (0, 0)
+layout(location = UNIFORM_FROXEL_APPLY_DEPTH) uniform vec3 u_depth;                // near, far, 0 none / 1 perspective / 2 orthographic
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;

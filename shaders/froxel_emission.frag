@@ -16,11 +16,11 @@
 layout(binding = 2) uniform sampler3D u_scattering; // ρσ per unit length, per froxel
 // The viewport drawn into (x, y, width, height in the framebuffer): pixel (i, j) is the begin()
 // view's pixel at that size; the scene depth's texel is the framebuffer pixel (gl_FragCoord).
-layout(location = 53) uniform vec4 u_viewport;
-layout(location = 54) uniform vec4 u_beam;          // beam (0/1), phase g, strength per scalar, apex distance (0: parallel)
-layout(location = 55) uniform vec3 u_beam_origin;   // the lens centre, relative frame
-layout(location = 56) uniform vec3 u_beam_axis;     // unit direction of travel, relative frame
-layout(location = 57) uniform vec3 u_beam_color;
+layout(location = UNIFORM_FROXEL_VIEWPORT) uniform vec4 u_viewport;
+layout(location = UNIFORM_FROXEL_BEAM) uniform vec4 u_beam;             // beam (0/1), phase g, strength per scalar, apex distance (0: parallel)
+layout(location = UNIFORM_FROXEL_BEAM_ORIGIN) uniform vec3 u_beam_origin; // the lens centre, relative frame
+layout(location = UNIFORM_FROXEL_BEAM_AXIS) uniform vec3 u_beam_axis;     // unit direction of travel, relative frame
+layout(location = UNIFORM_FROXEL_BEAM_COLOR) uniform vec3 u_beam_color;
 
 layout(location = 0) out vec4 o_color;
 

@@ -6,10 +6,10 @@
 // slice k of u_grid.z, exponential in view depth z (along the view direction, not the ray):
 // slice k covers [z_k, z_k+1), z_k = z_near·e^(k·step), z_near the camera's near plane and
 // z_64 the farthest depth of the volumes injected (what lies beyond goes to the last
-// slice). Uniform locations 50–51 are clear of the projector's (gl_interface.hpp) and of the
-// compositor's (30–39).
-layout(location = 50) uniform ivec3 u_grid;   // tiles across, tiles up, slices
-layout(location = 51) uniform vec2 u_slicing; // z_near, step = ln(z_far / z_near) / slices
+// slice). Uniform locations from the interface table (fx/src/projector/gl_interface.hpp).
+#include "projector_interface.glsl"
+layout(location = UNIFORM_FROXEL_GRID) uniform ivec3 u_grid;   // tiles across, tiles up, slices
+layout(location = UNIFORM_FROXEL_SLICING) uniform vec2 u_slicing; // z_near, step = ln(z_far / z_near) / slices
 
 float slice_start(int k) { return u_slicing.x * exp(float(k) * u_slicing.y); }
 // The slice holding view depth z (0 in front of z_near, the last one beyond z_far).

@@ -13,7 +13,7 @@
 #include "cell_segment.glsl"
 #include "froxel_grid.glsl"
 
-layout(location = 52) uniform float u_albedo; // the fraction of the volume's extinction that scatters light
+layout(location = UNIFORM_FROXEL_ALBEDO) uniform float u_albedo; // the fraction of the volume's extinction that scatters light
 
 // froxel_data[i] += v as floats, by compare-and-swap.
 void add_float(uint i, float v) {

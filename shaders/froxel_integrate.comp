@@ -19,14 +19,14 @@ layout(binding = 1, r16f) uniform writeonly image3D u_scattering;   // ρσ per 
 
 // The tile's centre ray in the eye-relative world frame: origin = o + x·o_x + y·o_y, direction =
 // normalize(d + x·d_x + y·d_y) for ndc (x, y) (fx::MediumGridRays).
-layout(location = 60) uniform vec3 u_origin;
-layout(location = 61) uniform vec3 u_origin_x;
-layout(location = 62) uniform vec3 u_origin_y;
-layout(location = 63) uniform vec3 u_direction;
-layout(location = 64) uniform vec3 u_direction_x;
-layout(location = 65) uniform vec3 u_direction_y;
-layout(location = 66) uniform vec3 u_view_forward;
-layout(location = 67) uniform int u_ortho;
+layout(location = UNIFORM_FROXEL_RAY_ORIGIN) uniform vec3 u_origin;
+layout(location = UNIFORM_FROXEL_RAY_ORIGIN_X) uniform vec3 u_origin_x;
+layout(location = UNIFORM_FROXEL_RAY_ORIGIN_Y) uniform vec3 u_origin_y;
+layout(location = UNIFORM_FROXEL_RAY_DIRECTION) uniform vec3 u_direction;
+layout(location = UNIFORM_FROXEL_RAY_DIRECTION_X) uniform vec3 u_direction_x;
+layout(location = UNIFORM_FROXEL_RAY_DIRECTION_Y) uniform vec3 u_direction_y;
+layout(location = UNIFORM_FROXEL_VIEW_FORWARD) uniform vec3 u_view_forward;
+layout(location = UNIFORM_FROXEL_ORTHO) uniform int u_ortho;
 
 // The froxel's scattering medium is even along its span (point_light_scatter weighs by it).
 float scatter_sigma(float t) { return 1.0; }

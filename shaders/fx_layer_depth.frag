@@ -11,8 +11,9 @@
 // Drawn as one full-screen triangle (fullscreen.vert) into the layer's depth (GL_DEPTH_TEST on,
 // GL_ALWAYS, colour writes off).
 layout(binding = 0) uniform sampler2D u_depth; // canonical window depth, full resolution
-layout(location = 0) uniform ivec2 u_origin;   // texel of the full view's pixel (0, 0)
-layout(location = 1) uniform ivec4 u_sizes;    // full width, height; low width, height
+#include "terrain_interface.glsl"
+layout(location = UNIFORM_LAYER_DEPTH_ORIGIN) uniform ivec2 u_origin; // texel of the full view's pixel (0, 0)
+layout(location = UNIFORM_LAYER_DEPTH_SIZES) uniform ivec4 u_sizes;   // full width, height; low width, height
 
 layout(location = 0) in vec2 v_uv;
 

@@ -15,10 +15,11 @@
 layout(binding = 0) uniform sampler2D u_layer;     // premultiplied, low resolution
 layout(binding = 1) uniform sampler2D u_low_depth; // the layer's depth (nearest or farthest of each block)
 layout(binding = 2) uniform sampler2D u_depth;     // full-resolution canonical window depth
-layout(location = 0) uniform vec4 u_viewport;      // x, y, width, height (full resolution, in the framebuffer)
-layout(location = 1) uniform ivec2 u_depth_origin; // u_depth's texel of the viewport's pixel (0, 0)
-layout(location = 2) uniform ivec2 u_low_size;
-layout(location = 3) uniform vec3 u_depth_model;   // near, far, 0 no depth / 1 perspective / 2 orthographic
+#include "terrain_interface.glsl"
+layout(location = UNIFORM_LAYER_VIEWPORT) uniform vec4 u_viewport;                 // x, y, width, height (full resolution, in the framebuffer)
+layout(location = UNIFORM_LAYER_UPSAMPLE_DEPTH_ORIGIN) uniform ivec2 u_depth_origin; // u_depth's texel of the viewport's pixel (0, 0)
+layout(location = UNIFORM_LAYER_LOW_SIZE) uniform ivec2 u_low_size;
+layout(location = UNIFORM_LAYER_DEPTH_MODEL) uniform vec3 u_depth_model;           // near, far, 0 no depth / 1 perspective / 2 orthographic
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;

@@ -10,11 +10,11 @@
 #include "cell_segment.glsl"
 #include "medium_lists.glsl"
 
-layout(location = 31) uniform uint u_volume;
-layout(location = 32) uniform uint u_capacity; // segments the pool holds
+layout(location = UNIFORM_MEDIUM_VOLUME) uniform uint u_volume;
+layout(location = UNIFORM_MEDIUM_CAPACITY) uniform uint u_capacity; // segments the pool holds
 // 0: the volume marks the mask where it covers (o_mask = 1); 1: the bulk volume appends only
 // where the mask is set (nothing attached to write).
-layout(location = 34) uniform int u_mask_mode;
+layout(location = UNIFORM_MEDIUM_MASK_MODE) uniform int u_mask_mode;
 layout(binding = 1) uniform sampler2D u_mask;
 
 layout(location = 0) out float o_mask;

@@ -4,12 +4,13 @@
 // phase and the point lights (a fire's glow). The includer defines
 //     float scatter_sigma(float t);
 // the extinction along the ray of the medium that scatters (point_light_scatter weighs by it).
-// Uniform locations 200–217 (the resolve's and the integration's; clear of the projector's).
-const int kMaxPointLights = 8;
-layout(location = 200) uniform int u_point_count;
-layout(location = 201) uniform vec4 u_point_position[kMaxPointLights]; // eye-relative, core radius r0
-layout(location = 209) uniform vec4 u_point_color[kMaxPointLights];    // rgb, radius R
-layout(location = 217) uniform float u_point_g[kMaxPointLights];
+// Uniform locations and sizes from the interface table (fx/src/projector/gl_interface.hpp).
+#include "projector_interface.glsl"
+const int kMaxPointLights = MEDIUM_POINT_LIGHTS;
+layout(location = UNIFORM_POINT_COUNT) uniform int u_point_count;
+layout(location = UNIFORM_POINT_POSITION) uniform vec4 u_point_position[kMaxPointLights]; // eye-relative, core radius r0
+layout(location = UNIFORM_POINT_COLOR) uniform vec4 u_point_color[kMaxPointLights];       // rgb, radius R
+layout(location = UNIFORM_POINT_G) uniform float u_point_g[kMaxPointLights];
 
 // Henyey–Greenstein relative to isotropic scattering (fx::relative_phase): 4π·p.
 float relative_phase(float g, float mu) {

@@ -19,7 +19,7 @@
 
 const int kSorted = 96;  // MediumCompositor::kSortedSegments
 const int kActive = 16;  // MediumCompositor::kActiveSegments
-const int kMaxVolumes = 32;
+const int kMaxVolumes = MEDIUM_VOLUMES;
 const int kBulkBounds = 64; // the bulk's own segment ends among the other volumes and chords
 const int kBounds = 2 * kSorted + 3 * kMaxPointLights + kBulkBounds; // bin boundaries
 const int kTableSize = 4096;
@@ -32,22 +32,22 @@ layout(binding = 0) uniform sampler2D u_tables;
 layout(binding = 1) uniform sampler2D u_mask;   // 1 where the medium is resolved (viewport texels)
 layout(binding = 2) uniform sampler2D u_behind; // premultiplied, texel = gl_FragCoord
 
-layout(location = 33) uniform int u_bulk; // the bulk volume, −1: none
+layout(location = UNIFORM_MEDIUM_BULK) uniform int u_bulk; // the bulk volume, −1: none
 // The pixel's ray in the eye-relative world frame (the eye at the origin).
 // Perspective: the ray of ndc (x, y) runs along u_forward + x·u_right + y·u_up (the near
 // plane's points: an explicit, off-axis projection too); orthographic: from x·u_right + y·u_up
 // along u_forward (unit).
-layout(location = 35) uniform vec3 u_forward;
-layout(location = 36) uniform vec3 u_right;
-layout(location = 37) uniform vec3 u_up;
-layout(location = 38) uniform int u_ortho;
-layout(location = 39) uniform vec4 u_viewport; // x, y, width, height in the framebuffer
+layout(location = UNIFORM_MEDIUM_FORWARD) uniform vec3 u_forward;
+layout(location = UNIFORM_MEDIUM_RIGHT) uniform vec3 u_right;
+layout(location = UNIFORM_MEDIUM_UP) uniform vec3 u_up;
+layout(location = UNIFORM_MEDIUM_ORTHO) uniform int u_ortho;
+layout(location = UNIFORM_MEDIUM_VIEWPORT) uniform vec4 u_viewport; // x, y, width, height in the framebuffer
 
-layout(location = 40) uniform vec4 u_table[kMaxVolumes];       // s_lo, s_hi, samples per unit s, colour varies (0/1)
-layout(location = 72) uniform vec4 u_medium[kMaxVolumes];      // absorbs, albedo, beam (0/1), beam g
-layout(location = 104) uniform vec4 u_beam_origin[kMaxVolumes]; // lens (eye-relative), apex distance (0: parallel)
-layout(location = 136) uniform vec4 u_beam_axis[kMaxVolumes];   // unit axis, strength per scalar
-layout(location = 168) uniform vec4 u_beam_color[kMaxVolumes];  // rgb
+layout(location = UNIFORM_MEDIUM_TABLE) uniform vec4 u_table[kMaxVolumes];             // s_lo, s_hi, samples per unit s, colour varies (0/1)
+layout(location = UNIFORM_MEDIUM_MEDIUM) uniform vec4 u_medium[kMaxVolumes];           // absorbs, albedo, beam (0/1), beam g
+layout(location = UNIFORM_MEDIUM_BEAM_ORIGIN) uniform vec4 u_beam_origin[kMaxVolumes]; // lens (eye-relative), apex distance (0: parallel)
+layout(location = UNIFORM_MEDIUM_BEAM_AXIS) uniform vec4 u_beam_axis[kMaxVolumes];     // unit axis, strength per scalar
+layout(location = UNIFORM_MEDIUM_BEAM_COLOR) uniform vec4 u_beam_color[kMaxVolumes];   // rgb
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;

@@ -4,12 +4,13 @@
 // target from that offset, and the stamp buffer's entry to the run's stamp.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 13) readonly buffer Records { uint records[]; };
-layout(std430, binding = 14) writeonly buffer Target { uint target[]; };
-layout(std430, binding = 15) writeonly buffer Stamps { uint stamps[]; };
+// Bindings and uniform locations: #defines from gl/scatter_pass.cpp, where they are written once.
+layout(std430, binding = BINDING_RECORDS) readonly buffer Records { uint records[]; };
+layout(std430, binding = BINDING_TARGET) writeonly buffer Target { uint target[]; };
+layout(std430, binding = BINDING_STAMPS) writeonly buffer Stamps { uint stamps[]; };
 
-layout(location = 0) uniform uint u_count;
-layout(location = 1) uniform uint u_stamp;
+layout(location = UNIFORM_COUNT) uniform uint u_count;
+layout(location = UNIFORM_STAMP) uniform uint u_stamp;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -10,9 +10,10 @@ layout(binding = 0) uniform sampler2DMS u_depth; // the game's depth texture
 #else
 layout(binding = 0) uniform sampler2D u_depth;   // the game's depth texture (compare mode NONE by sampler)
 #endif
-layout(location = 0) uniform ivec2 u_offset;      // the game's texel = this fragment's pixel + u_offset
-layout(location = 1) uniform vec2 u_map;          // canonical = u_map.x + u_map.y · game (clamped to [0, 1])
-layout(location = 2) uniform int u_samples;       // MULTISAMPLE: samples per texel
+#include "terrain_interface.glsl"
+layout(location = UNIFORM_NORMALIZE_OFFSET) uniform ivec2 u_offset; // the game's texel = this fragment's pixel + u_offset
+layout(location = UNIFORM_NORMALIZE_MAP) uniform vec2 u_map;        // canonical = u_map.x + u_map.y · game (clamped to [0, 1])
+layout(location = UNIFORM_NORMALIZE_SAMPLES) uniform int u_samples; // MULTISAMPLE: samples per texel
 
 layout(location = 0) in vec2 v_uv;
 

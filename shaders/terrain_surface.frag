@@ -4,13 +4,14 @@
 // gradients (texture unit 0, linear filtering). Output premultiplied and opaque.
 layout(binding = 0) uniform sampler2D u_gradients; // (dz/dx, dz/dy) per sample
 
-layout(location = 1) uniform vec2 u_field_origin;  // relative frame xy of sample (0, 0)
-layout(location = 2) uniform vec2 u_texel;         // (1 / spacing, 1 / size)
-layout(location = 3) uniform vec2 u_height_range;  // lowest height (relative frame), 1 / (highest − lowest)
-layout(location = 4) uniform vec3 u_sun;           // unit, towards the sun
-layout(location = 5) uniform float u_ambient;
-layout(location = 6) uniform int u_stops;
-layout(location = 8) uniform vec4 u_ramp[8];       // (fraction, r, g, b)
+#include "terrain_interface.glsl"
+layout(location = UNIFORM_SURFACE_FIELD_ORIGIN) uniform vec2 u_field_origin;  // relative frame xy of sample (0, 0)
+layout(location = UNIFORM_SURFACE_TEXEL) uniform vec2 u_texel;                // (1 / spacing, 1 / size)
+layout(location = UNIFORM_SURFACE_HEIGHT_RANGE) uniform vec2 u_height_range;  // lowest height (relative frame), 1 / (highest − lowest)
+layout(location = UNIFORM_SURFACE_SUN) uniform vec3 u_sun;                    // unit, towards the sun
+layout(location = UNIFORM_SURFACE_AMBIENT) uniform float u_ambient;
+layout(location = UNIFORM_SURFACE_STOPS) uniform int u_stops;
+layout(location = UNIFORM_SURFACE_RAMP) uniform vec4 u_ramp[SURFACE_MAX_STOPS]; // (fraction, r, g, b)
 
 layout(location = 0) in vec3 v_position;
 layout(location = 0) out vec4 o_color;

@@ -5,10 +5,11 @@
 // centre.
 layout(std430, binding = 0) readonly buffer Heights { float heights[]; }; // per sample, relative frame
 
-layout(location = 0) uniform mat4 u_view_projection; // relative frame → clip space
-layout(location = 16) uniform int u_size;            // samples per side
-layout(location = 17) uniform vec2 u_first_sample;   // relative frame xy of sample (0, 0)
-layout(location = 18) uniform float u_spacing;
+#include "terrain_interface.glsl"
+layout(location = UNIFORM_SURFACE_VIEW_PROJECTION) uniform mat4 u_view_projection; // relative frame → clip space
+layout(location = UNIFORM_SURFACE_SIZE) uniform int u_size;                        // samples per side
+layout(location = UNIFORM_SURFACE_FIRST_SAMPLE) uniform vec2 u_first_sample;       // relative frame xy of sample (0, 0)
+layout(location = UNIFORM_SURFACE_SPACING) uniform float u_spacing;
 
 layout(location = 0) out vec3 v_position; // relative frame
 

@@ -15,7 +15,7 @@
 #include <catch2/catch.hpp>
 #include <epoxy/gl.h>
 
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "image_check.hpp"
 #include "cellfx_names.hpp"
 

@@ -15,7 +15,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "image_check.hpp"
 #include "cellfx_names.hpp"
 

@@ -18,7 +18,7 @@
 #include "fx/cell_mesh.hpp"
 #include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "mesh/tetrahedralize.hpp"
 #include "mesh_builders.hpp"
 #include "cellfx_names.hpp"

@@ -19,7 +19,7 @@
 
 #include "fx/mesh_io.hpp"
 #include "fx/mesh_validation.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "test_paths.hpp"
 #include "cellfx_names.hpp"
 

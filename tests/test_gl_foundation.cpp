@@ -12,7 +12,7 @@
 #include <epoxy/gl.h>
 
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "gl/composite_pass.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
@@ -368,8 +368,8 @@ TEST_CASE("StateGuard restores every item it promises", "[gl]") {
         RenderTarget our_target = RenderTarget::create(8, 8, ColorFormat::RGBA8, false);
         Framebuffer host_read = Framebuffer::create();
         const ShaderLibrary& lib = ShaderLibrary::builtin();
-        Program host_program = lib.link({"fullscreen.vert", "composite.frag"});
-        Program our_program = lib.link({"fullscreen.vert", "composite.frag"}, {{"COMPOSITE_OVER_FRAMEBUFFER", "1"}});
+        Program host_program = lib.link({"fullscreen.vert", "composite.frag"}, {{"UNIFORM_BACKGROUND", "0"}});
+        Program our_program = lib.link({"fullscreen.vert", "composite.frag"}, {{"COMPOSITE_OVER_FRAMEBUFFER", "1"}, {"UNIFORM_BACKGROUND", "0"}});
         VertexArray host_vao = VertexArray::create(), our_vao = VertexArray::create();
         Buffer host_buf = make_buffer(4096, nullptr), our_buf = make_buffer(4096, nullptr);
         Buffer host_buf2 = make_buffer(4096, nullptr);

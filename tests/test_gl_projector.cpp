@@ -5,7 +5,7 @@
 #include <string>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "gl/program_cache.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"

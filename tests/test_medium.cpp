@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "gl/render_target.hpp"
 #include "gl/state_guard.hpp"
 #include "medium/froxel_medium.hpp"
@@ -24,6 +24,7 @@
 #include "terrain/scene_renderer.hpp"
 #include "test_effects_support.hpp"
 #include "test_paths.hpp"
+#include "transfer/segment_integral.hpp"
 #include "cellfx_names.hpp"
 
 namespace {

@@ -1,7 +1,7 @@
 // Frame tests of the PCP, PCP-exact and MIP paths (headless GL, llvmpipe on CPU machines)
 // against closed forms: boxes of hexahedra with a scalar linear in space, where the exact
 // per-pixel answer is the transfer function's segment integral over the ray's chord through
-// the box (fx/segment_integral.hpp, the CPU's one source of truth).
+// the box (fx/src/transfer/segment_integral.hpp, the CPU's one source of truth).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/cell_renderer.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "gl_fixture.hpp"
 #include "mesh_builders.hpp"
 #include "projector/gl_projector.hpp"
@@ -297,7 +297,7 @@ TEST_CASE("the frame's clear and resolve cover the pixels the mesh can cover, an
     const fx::CellMesh mesh = box_with_linear_field(3, {0, 0, 0}, {1, 1, 1}, {0.3, 0.2, 0.5}, 0.1);
     const fx::TransferFunction tf({{0.0, {0.2, 0.5, 1.0}, 0.5}, {1.0, {1.0, 0.8, 0.3}, 1.5}});
     fx::CellRenderer r(mesh, "s", tf);
-    const fx::GlProjector& projector = fx::ProjectorAccess::projector(r);
+    const fx::GlProjector& projector = fx::renderer_projector(r);
     const int w = 96, h = 64;
     const fx::Viewport viewport{0, 0, w, h};
     // Far and off to one side: a small rectangle; every pixel the mesh covers lies in it, and

@@ -87,7 +87,7 @@ TEST_CASE("planar and folded cells: either fragment road, the same picture, the 
             fx::CellRenderOptions options;
             options.sort = fx::SortMethod::Xmpvo; // three blocks apart: not convex
             const fx::Image planar = renderer.render_to_image(view.camera, size, size, path, options);
-            fx::ProjectorAccess::projector(renderer).set_planar_tolerance(-1.0); // every cell searches
+            fx::renderer_projector(renderer).set_planar_tolerance(-1.0); // every cell searches
             const fx::Image searched = renderer.render_to_image(view.camera, size, size, path, options);
             fx_test::require_no_gl_error();
 

@@ -176,3 +176,35 @@ TEST_CASE("the header check finds a declaration outside namespace cellfx", "[pub
     const std::vector<std::string> found = top_level_outside_cellfx({file, "leaky.hpp"});
     CHECK(found == std::vector<std::string>{"leaky.hpp:8", "leaky.hpp:11"});
 }
+
+namespace {
+
+// Where a header's code (comments and literals aside) declares a friend, as "header:line": a
+// friend in an installed header names an internal type to every game that includes it.
+std::vector<std::string> friends_in(const PublicHeader& header) {
+    const std::string code = code_only(read_text(header.file));
+    static const std::regex friend_word(R"(\bfriend\b)");
+    std::vector<std::string> found;
+    for (auto it = std::sregex_iterator(code.begin(), code.end(), friend_word); it != std::sregex_iterator(); ++it)
+        found.push_back(header.name + ":" + std::to_string(line_of(code, std::size_t(it->position()))));
+    return found;
+}
+
+} // namespace
+
+TEST_CASE("the installed headers declare no friend", "[public_headers]") {
+    for (const PublicHeader& header : public_headers()) {
+        const std::vector<std::string> found = friends_in(header);
+        CAPTURE(found);
+        CHECK(found.empty());
+    }
+}
+
+TEST_CASE("the friend check finds a friend in code and not in a comment", "[public_headers]") {
+    const fs::path dir = fx_test::output_path("public_headers");
+    fs::create_directories(dir);
+    const fs::path file = dir / "friendly.hpp";
+    std::ofstream(file) << "// a friend of nobody\n#pragma once\nnamespace cellfx::fx {\nclass A {\n"
+                           "    const char* word = \"friend\";\n    friend struct Access;\n};\n} // namespace cellfx::fx\n";
+    CHECK(friends_in({file, "friendly.hpp"}) == std::vector<std::string>{"friendly.hpp:6"});
+}

@@ -7,8 +7,8 @@
 
 #include "fx/resource_limits.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "fx/segment_integral.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "transfer/segment_integral.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "mesh/tetrahedralize.hpp"
 #include "scanline_test_support.hpp"
 #include "cellfx_names.hpp"

@@ -8,7 +8,7 @@
 
 #include "fx/scanline_renderer.hpp"
 #include "scanline/scanline_fragments.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "mesh/tetrahedralize.hpp"
 #include "scanline_test_support.hpp"
 #include "cellfx_names.hpp"

@@ -13,7 +13,7 @@
 #include <glm/common.hpp>
 
 #include "fx/error.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "fx/transfer_function.hpp"
 #include "transfer/special_functions.hpp"
 #include "cellfx_names.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "fx/error.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "fx/transfer_function.hpp"
 #include "test_paths.hpp"
 #include "cellfx_names.hpp"

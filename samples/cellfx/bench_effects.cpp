@@ -56,7 +56,7 @@
 #include "fx/campfire.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "options.hpp"
 #include "sample.hpp"

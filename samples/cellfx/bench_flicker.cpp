@@ -26,7 +26,7 @@
 #include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "options.hpp"
 #include "terrain/scene.hpp"
 #include "terrain/scene_renderer.hpp"

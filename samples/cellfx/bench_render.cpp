@@ -51,7 +51,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "fx/image.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/visibility_sort.hpp"
@@ -326,7 +326,7 @@ Run run_gpu_path(const Scene& sc, fx::RenderPath path, const fx::SortMethod* sor
     run.tol = tolerance_for(run.path);
     const auto t = Clock::now();
     fx::CellRenderer renderer(sc.mesh, sc.field_name, sc.tf);
-    fx::ProjectorAccess::projector(renderer).set_planar_tolerance(sc.planar_tolerance);
+    fx::renderer_projector(renderer).set_planar_tolerance(sc.planar_tolerance);
     run.setup_ms = ms_since(t);
     fx::CellRenderStats stats;
     double cpu = 0.0, gpu = 0.0, process = 0.0;

@@ -17,7 +17,7 @@
 #include "commands.hpp"
 #include "fx/error.hpp"
 #include "fx/scanline_renderer.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "options.hpp"
 #include "cellfx_names.hpp"
 

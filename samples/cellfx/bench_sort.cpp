@@ -25,7 +25,7 @@
 #include "commands.hpp"
 #include "fx/error.hpp"
 #include "mesh/face_topology.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "mesh/tetrahedralize.hpp"
 #include "fx/visibility_sort.hpp"
 #include "options.hpp"

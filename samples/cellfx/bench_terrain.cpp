@@ -25,7 +25,7 @@
 #include "bench_support.hpp"
 #include "commands.hpp"
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "options.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/fog_layer.hpp"

@@ -12,7 +12,7 @@
 #include "commands.hpp"
 #include "fx/error.hpp"
 #include "mesh/tetrahedralize.hpp"
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 #include "fx/vtk_legacy.hpp"
 #include "mesh_input.hpp"
 #include "options.hpp"

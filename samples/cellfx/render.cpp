@@ -16,7 +16,7 @@
 #include "fx/camera.hpp"
 #include "fx/cell_renderer.hpp"
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "fx/image.hpp"
 #include "fx/scanline_renderer.hpp"
 #include "fx/transfer_function.hpp"

@@ -12,7 +12,7 @@
 #include "frame_loop.hpp"
 #include "panel.hpp"
 #include "fx/error.hpp"
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 #include "fx/image.hpp"
 #include "io/output_file.hpp"
 #include "cellfx_names.hpp"

@@ -1,12 +1,12 @@
 // A game that takes cellfx from its build (subproject, FetchContent, installed package or
 // pkg-config) and runs headless: a campfire built in code drawn over the game's own frame for a
 // few frames, the fire visible and the game's GL state as it was. Exit 0 when all holds.
-#include "fx/headless_context.hpp"
 #include "game_support.hpp"
 
 int main() {
     try {
-        cellfx::fx::HeadlessContext context;
+        const game::Context context; // the game's own (cellfx installs none)
+        if (!context.ok()) return game::fail("no GL context");
         game::Frame frame;
         if (!frame.complete()) return game::fail("the game's framebuffer is incomplete");
         // The game's own terrain::Scene and fx::Error (game_support.hpp) beside cellfx's names.

@@ -1,7 +1,6 @@
 // The consumer game built with -fno-exceptions -fno-rtti: cellfx's try_ forms and Status, the
 // effect<E>() type tag, effects added, tuned and removed at run time, a bad reload refused while
 // the scene keeps running. Exit 0 when all holds.
-#include "fx/headless_context.hpp"
 #include "game_support.hpp"
 
 namespace {
@@ -17,7 +16,8 @@ bool frame_ok(cellfx::Module& fx, const game::Frame& frame, const cellfx::fx::Ca
 } // namespace
 
 int main() {
-    cellfx::fx::HeadlessContext context; // (a game makes its own context; this one aborts if it cannot)
+    const game::Context context; // the game's own (cellfx installs none)
+    if (!context.ok()) return game::fail("no GL context");
     game::Frame frame;
     if (!frame.complete()) return game::fail("the game's framebuffer is incomplete");
     cellfx::Module fx;

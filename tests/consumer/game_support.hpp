@@ -1,11 +1,14 @@
-// The consumer games' shared half: a headless "game" frame (its own framebuffer with a colour
+// The consumer games' shared half: the game's own headless GL context (EGL; cellfx installs no
+// context of its own: it draws into whatever context the game has current), a "game" frame (its own framebuffer with a colour
 // texture and a depth texture), a campfire scene built in code (no files: an installed cellfx
 // has no content folder), the game's own GL state (a caching renderer's bindings) and its check.
 #pragma once
 
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
+#include <epoxy/egl.h>
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -27,6 +30,62 @@ struct Scene {
 namespace game {
 
 constexpr int kWidth = 160, kHeight = 120;
+
+// The game's GL 4.5 core context with no window: EGL's surfaceless platform (Mesa), else the
+// default display, made current on this thread. ok() is false (with the failing step printed)
+// when neither gives one.
+class Context {
+public:
+    Context() {
+        const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+        if (client && std::strstr(client, "EGL_MESA_platform_surfaceless"))
+            display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        if (display_ == EGL_NO_DISPLAY) display_ = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+        EGLint major = 0, minor = 0;
+        if (display_ == EGL_NO_DISPLAY || !eglInitialize(display_, &major, &minor)) {
+            step("eglInitialize");
+            return;
+        }
+        if (!eglBindAPI(EGL_OPENGL_API)) {
+            step("eglBindAPI");
+            return;
+        }
+        // No surface is made, but the config names a surface type: EGL's default (windows) has no
+        // config on a surfaceless display.
+        const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_NONE};
+        EGLConfig config = nullptr;
+        EGLint configs = 0;
+        if (!eglChooseConfig(display_, config_attribs, &config, 1, &configs) || configs == 0) {
+            step("eglChooseConfig (OpenGL, pbuffer)");
+            return;
+        }
+        const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, attribs);
+        if (context_ == EGL_NO_CONTEXT) {
+            step("eglCreateContext (OpenGL 4.5 core)");
+            return;
+        }
+        if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) step("eglMakeCurrent (no surface)");
+        else ok_ = true;
+    }
+    ~Context() {
+        if (context_ != EGL_NO_CONTEXT) {
+            eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            eglDestroyContext(display_, context_);
+        }
+        if (display_ != EGL_NO_DISPLAY) eglTerminate(display_);
+    }
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+    bool ok() const { return ok_; }
+
+private:
+    void step(const char* what) { std::fprintf(stderr, "game: no GL context: %s failed (EGL error 0x%x)\n", what, unsigned(eglGetError())); }
+    EGLDisplay display_ = EGL_NO_DISPLAY;
+    EGLContext context_ = EGL_NO_CONTEXT;
+    bool ok_ = false;
+};
 
 inline cellfx::Scene campfire_scene() {
     cellfx::Scene scene;

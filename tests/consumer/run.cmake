@@ -43,6 +43,13 @@ if(MODE STREQUAL "install")
       message(FATAL_ERROR "consumer install: ${f} was not installed")
     endif()
   endforeach()
+  # Test support and cellfx's own stages stay out of what a game gets (testing/, fx/src).
+  foreach(f include/cellfx/fx/headless_context.hpp include/cellfx/fx/segment_integral.hpp
+            include/cellfx/harness include/cellfx/verify ${LIBDIR}/libcellfx_harness.a ${LIBDIR}/libcellfx_verify.a)
+    if(EXISTS "${WORK}/prefix/${f}")
+      message(FATAL_ERROR "consumer install: ${f} was installed (test support is not part of the package)")
+    endif()
+  endforeach()
   return()
 endif()
 

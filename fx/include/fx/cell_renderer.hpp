@@ -50,26 +50,17 @@
 #include <cstddef>
 #include <memory>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
 #include "fx/image.hpp"
 #include "fx/parallel_for.hpp"
+#include "fx/render_path.hpp"
+#include "fx/sort_method.hpp"
 #include "fx/transfer_function.hpp"
-#include "fx/visibility_sort.hpp"
 
 namespace cellfx::fx {
-
-enum class RenderPath { Pcp, PcpExact, Mip, Absorption, AbsorptionExact };
-// Every path, in the order tools list them (the CLI offers each under render_path_name()).
-inline constexpr RenderPath kRenderPaths[] = {RenderPath::Pcp, RenderPath::PcpExact, RenderPath::Mip,
-                                              RenderPath::Absorption, RenderPath::AbsorptionExact};
-// "pcp", "pcp-exact", "mip", "absorption", "absorption-exact"
-const char* render_path_name(RenderPath path);
-// Parses a name given by render_path_name(); false for anything else.
-bool parse_render_path(std::string_view name, RenderPath& path);
 
 struct CellRenderOptions {
     // pcp-exact only: accumulate optical depth too and composite e^(−τ) over the background.
@@ -204,9 +195,12 @@ public:
     };
     Memory gpu_memory() const;
 
-private:
-    friend struct ProjectorAccess; // passes built on this renderer's projector (fx/src/render/projector_access.hpp)
+    // The implementation, opaque here: cellfx's own passes that draw with this renderer's GL
+    // projector (the medium) reach it through a private header (fx/src/render/projector_access.hpp).
     struct Impl;
+    Impl& impl();
+
+private:
     std::unique_ptr<Impl> impl_;
 };
 

@@ -33,7 +33,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "fx/segment_integral.hpp"
+#include "fx/segment_color.hpp"
 #include "fx/transfer_function.hpp"
 
 namespace cellfx::fx {

@@ -12,7 +12,8 @@
 // and offsets, §3 Figure 7; inside a bucket by the number of lines they cover), and every
 // scan line keeps an active list, builds X-buckets — each pixel's crossings, in depth order
 // (§2.2) — and walks them. Between consecutive crossings the colour is integrated exactly
-// with segment_integral.hpp (emission_absorption / emission_integral / segment_maximum).
+// with cellfx's segment integrals (fx/src/transfer/segment_integral.hpp: emission_absorption,
+// emission_integral, segment_maximum).
 // docs/scanline.md describes the algorithm, its rules, memory and speed.
 //
 // Rules that make the picture right rather than roughly right:

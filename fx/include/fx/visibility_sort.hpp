@@ -54,20 +54,9 @@
 
 #include "fx/camera.hpp"
 #include "fx/cell_mesh.hpp"
+#include "fx/sort_method.hpp"
 
 namespace cellfx::fx {
-
-enum class SortMethod {
-    Centroid,
-    Mpvo,
-    Xmpvo,
-    Power,
-};
-const char* sort_method_name(SortMethod method); // "centroid", "mpvo", "xmpvo", "power"
-// Parses a name given by sort_method_name(); false for anything else.
-bool parse_sort_method(std::string_view name, SortMethod& method);
-// Every method, in the order above (for benchmarks and tests).
-const std::vector<SortMethod>& all_sort_methods();
 
 struct SortStats {
     double seconds = 0.0;     // time of this sort() call

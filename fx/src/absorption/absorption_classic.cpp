@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/error.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "frame_storage.hpp"
 #include "mesh/tetrahedralize.hpp"
 

@@ -3,11 +3,20 @@
 #include "gl/state_guard.hpp"
 
 namespace cellfx::fx::gl {
+namespace {
+
+// composite.frag's one uniform location, its whole interface table (reaches GLSL as a #define).
+constexpr GLint kUniformBackground = 0;
+
+Defines composite_defines() { return Defines{}.set("UNIFORM_BACKGROUND", kUniformBackground); }
+
+} // namespace
 
 CompositePass CompositePass::create(const ShaderLibrary& library) {
     CompositePass pass;
-    pass.over_color_ = library.link({"fullscreen.vert", "composite.frag"});
-    pass.over_framebuffer_ = library.link({"fullscreen.vert", "composite.frag"}, {{"COMPOSITE_OVER_FRAMEBUFFER", "1"}});
+    pass.over_color_ = library.link({"fullscreen.vert", "composite.frag"}, composite_defines());
+    pass.over_framebuffer_ =
+        library.link({"fullscreen.vert", "composite.frag"}, composite_defines().set("COMPOSITE_OVER_FRAMEBUFFER", "1"));
     pass.sampler_ = Sampler::create();
     glSamplerParameteri(pass.sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glSamplerParameteri(pass.sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -39,7 +48,7 @@ void CompositePass::draw(const Program& program, GLuint image, bool blend) const
 
 void CompositePass::draw_over_color(GLuint image, const glm::vec3& background) const {
     if (over_color_)
-        glProgramUniform3f(over_color_.id(), 0, background.r, background.g, background.b);
+        glProgramUniform3f(over_color_.id(), kUniformBackground, background.r, background.g, background.b);
     draw(over_color_, image, false);
 }
 

@@ -11,16 +11,26 @@
 namespace cellfx::fx::gl {
 namespace {
 
-// The bindings scatter.comp declares (within those StateGuard saves).
+// scatter.comp's interface: its bindings (within those StateGuard saves) and uniform locations,
+// written once here and passed to GLSL as #defines.
 constexpr GLuint kRecordsBinding = 13, kTargetBinding = 14, kStampsBinding = 15;
+constexpr GLint kUniformCount = 0, kUniformStamp = 1;
+
+Defines scatter_defines(std::uint32_t words_per_record) {
+    return Defines{{"WORDS_PER_RECORD", std::to_string(words_per_record)}}
+        .set("BINDING_RECORDS", int(kRecordsBinding))
+        .set("BINDING_TARGET", int(kTargetBinding))
+        .set("BINDING_STAMPS", int(kStampsBinding))
+        .set("UNIFORM_COUNT", kUniformCount)
+        .set("UNIFORM_STAMP", kUniformStamp);
+}
 
 } // namespace
 
 ScatterPass::ScatterPass(std::uint32_t words_per_record)
     : cache_(ProgramCache::for_current_context()), words_per_record_(words_per_record) {
     if (words_per_record == 0 || words_per_record > 64) throw Error("scatter pass: 1 to 64 words per record");
-    program_ = &cache_->program(ShaderLibrary::builtin(), {"scatter.comp"},
-                                Defines{{"WORDS_PER_RECORD", std::to_string(words_per_record_)}});
+    program_ = &cache_->program(ShaderLibrary::builtin(), {"scatter.comp"}, scatter_defines(words_per_record_));
 }
 
 ScatterPass::~ScatterPass() = default;
@@ -50,8 +60,8 @@ void ScatterPass::run(GLuint target, GLuint stamps, std::uint32_t stamp) {
     StateGuard guard;
     const GLuint p = program_->id();
     glUseProgram(p);
-    glProgramUniform1ui(p, 0, GLuint(count_));
-    glProgramUniform1ui(p, 1, GLuint(stamp));
+    glProgramUniform1ui(p, kUniformCount, GLuint(count_));
+    glProgramUniform1ui(p, kUniformStamp, GLuint(stamp));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordsBinding, staging_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTargetBinding, target);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kStampsBinding, stamps ? stamps : target);

@@ -29,29 +29,30 @@ namespace cellfx::fx {
 namespace {
 
 // Uniform locations (froxel_grid.glsl, froxel_inject.frag, froxel_integrate.comp,
-// froxel_emission.frag, froxel_apply.frag, medium_lights.glsl); the projector programs' are
-// clear of gl_interface.hpp's table.
+// froxel_emission.frag, froxel_apply.frag, medium_lights.glsl): the interface table's
+// (projector/gl_interface.hpp), named here for this file.
 enum Uniform : GLint {
-    kGrid = 50,
-    kSlicing = 51,
-    kAlbedo = 52,
-    kViewport = 53,
-    kBeam = 54,
-    kBeamOrigin = 55,
-    kBeamAxis = 56,
-    kBeamColor = 57,
-    kRayOrigin = 60, // .. 65: origin, its x and y steps, direction, its x and y steps (ndc)
-    kViewForward = 66,
-    kOrtho = 67,
-    kPointCount = 200,
-    kPointPosition = 201,
-    kPointColor = 209,
-    kPointG = 217,
-    // froxel_apply.frag (its own program)
-    kApplyViewport = 0,
-    kApplyDepthOrigin = 1,
-    kApplyDepth = 2,
+    kGrid = cellfx::fx::kUniformFroxelGrid,
+    kSlicing = cellfx::fx::kUniformFroxelSlicing,
+    kAlbedo = cellfx::fx::kUniformFroxelAlbedo,
+    kViewport = cellfx::fx::kUniformFroxelViewport,
+    kBeam = cellfx::fx::kUniformFroxelBeam,
+    kBeamOrigin = cellfx::fx::kUniformFroxelBeamOrigin,
+    kBeamAxis = cellfx::fx::kUniformFroxelBeamAxis,
+    kBeamColor = cellfx::fx::kUniformFroxelBeamColor,
+    kRayOrigin = cellfx::fx::kUniformFroxelRayOrigin, // .. + 5: origin, its x and y steps, direction, its x and y steps (ndc)
+    kViewForward = cellfx::fx::kUniformFroxelViewForward,
+    kOrtho = cellfx::fx::kUniformFroxelOrtho,
+    kPointCount = cellfx::fx::kUniformPointCount,
+    kPointPosition = cellfx::fx::kUniformPointPosition,
+    kPointColor = cellfx::fx::kUniformPointColor,
+    kPointG = cellfx::fx::kUniformPointG,
+    kApplyViewport = cellfx::fx::kUniformFroxelApplyViewport,
+    kApplyDepthOrigin = cellfx::fx::kUniformFroxelApplyDepthOrigin,
+    kApplyDepth = cellfx::fx::kUniformFroxelApplyDepth,
 };
+static_assert(cellfx::fx::kUniformFroxelRayDirectionY == kRayOrigin + 5, "the six ray uniforms in a row");
+static_assert(cellfx::fx::FroxelMedium::kMaxPointLights == cellfx::fx::kMediumPointLights, "medium_lights.glsl's size");
 constexpr GLuint kInjectionBinding = 4;
 constexpr GLuint kIntegratedUnit = 0, kScatteringImage = 1;       // integrate: image units
 constexpr GLuint kApplyGridUnit = 0, kApplyDepthUnit = 1;          // apply: texture units
@@ -134,7 +135,7 @@ struct FroxelMedium::Impl {
 
 FroxelMedium::FroxelMedium() : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
-    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
+    const gl::ShaderLibrary& lib = projector_shader_library(); // the built-in shaders and the interface table
     m.program_cache = gl::ProgramCache::for_current_context();
     m.integrate_program = lib.link({"froxel_integrate.comp"});
     m.apply_program = lib.link({"fullscreen.vert", "froxel_apply.frag"});
@@ -219,7 +220,7 @@ void FroxelMedium::inject(CellRenderer& renderer, const glm::dmat4& world_from_l
     const auto start = Clock::now();
     gl::StateGuard guard;
     gl::StateGuard::set_render_defaults();
-    GlProjector& projector = ProjectorAccess::projector(renderer);
+    GlProjector& projector = renderer_projector(renderer);
     const gl::Program*& program = m.inject_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!program) // linked on first use (once per context: the cache shares it)
         program = &m.program_cache->program(projector_shader_library(), {"cells.vert", "froxel_inject.frag"},
@@ -342,7 +343,7 @@ void FroxelMedium::draw_emission(CellRenderer& renderer, const glm::dmat4& world
     const auto start = Clock::now();
     gl::StateGuard guard;
     gl::StateGuard::set_render_defaults();
-    GlProjector& projector = ProjectorAccess::projector(renderer);
+    GlProjector& projector = renderer_projector(renderer);
     ProgramVariants& variants = m.emission_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!variants.plain) {
         gl::Defines defines = projector.mesh_defines();

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "fx/error.hpp"
+#include "transfer/segment_integral.hpp"
 
 namespace cellfx::fx {
 

@@ -18,7 +18,7 @@
 
 #include "fx/effect.hpp" // camera_in_frame
 #include "fx/error.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/gl_object.hpp"
 #include "gl/program_cache.hpp"
@@ -30,31 +30,32 @@
 namespace cellfx::fx {
 namespace {
 
-// Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag). The append
-// program is also a projector program (gl_interface.hpp's table): these stay clear of the
-// locations, units and bindings its stages declare.
+// Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag,
+// medium_lights.glsl): the interface table's (projector/gl_interface.hpp), which the append
+// program, a projector program too, shares; named here for this file.
 enum Uniform : GLint {
-    kRegion = 30,
-    kVolume = 31,
-    kCapacity = 32,
-    kBulk = 33,
-    kMaskMode = 34,
-    kForward = 35,
-    kRight = 36,
-    kUp = 37,
-    kOrtho = 38,
-    kViewport = 39,
-    kTable = 40,
-    kMedium = 72,
-    kBeamOrigin = 104,
-    kBeamAxis = 136,
-    kBeamColor = 168,
-    kPointCount = 200,
-    kPointPosition = 201,
-    kPointColor = 209,
-    kPointG = 217,
+    kRegion = kUniformMediumRegion,
+    kVolume = kUniformMediumVolume,
+    kCapacity = kUniformMediumCapacity,
+    kBulk = kUniformMediumBulk,
+    kMaskMode = kUniformMediumMaskMode,
+    kForward = kUniformMediumForward,
+    kRight = kUniformMediumRight,
+    kUp = kUniformMediumUp,
+    kOrtho = kUniformMediumOrtho,
+    kViewport = kUniformMediumViewport,
+    kTable = kUniformMediumTable,
+    kMedium = kUniformMediumMedium,
+    kBeamOrigin = kUniformMediumBeamOrigin,
+    kBeamAxis = kUniformMediumBeamAxis,
+    kBeamColor = kUniformMediumBeamColor,
+    kPointCount = kUniformPointCount,
+    kPointPosition = kUniformPointPosition,
+    kPointColor = kUniformPointColor,
+    kPointG = kUniformPointG,
 };
-constexpr int kMaxPointLights = 8;
+constexpr int kMaxPointLights = kMediumPointLights;
+static_assert(MediumCompositor::kMaxVolumes == kMediumVolumes, "medium_resolve.frag's size");
 constexpr GLuint kListsBinding = 3;
 constexpr GLuint kTablesUnit = 0, kMaskUnit = 1, kBehindUnit = 2;
 constexpr int kTableSize = 4096;           // samples per row, as the cell renderer's tables
@@ -128,7 +129,7 @@ struct MediumCompositor::Impl {
 
 MediumCompositor::MediumCompositor() : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
-    const gl::ShaderLibrary& lib = gl::ShaderLibrary::builtin();
+    const gl::ShaderLibrary& lib = projector_shader_library(); // the built-in shaders and the interface table
     m.program_cache = gl::ProgramCache::for_current_context();
     m.resolve_program = lib.link({"fullscreen.vert", "medium_resolve.frag"});
     m.vao = gl::VertexArray::create();
@@ -312,7 +313,7 @@ void MediumCompositor::Impl::clear_mask() {
 }
 
 void MediumCompositor::Impl::draw_append(const Append& a) {
-    GlProjector& projector = ProjectorAccess::projector(*a.renderer);
+    GlProjector& projector = renderer_projector(*a.renderer);
     ProgramVariants& variants = append_programs[projector.all_tetrahedra() ? 1 : 0];
     if (!variants.plain) { // linked on first use (once per context: the cache shares them)
         gl::Defines defines = projector.mesh_defines();

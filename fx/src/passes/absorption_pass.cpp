@@ -15,7 +15,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "fx/error.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "parallel_tasks.hpp"
 #include "gl/gl_check.hpp"
 #include "projector/gl_interface.hpp"

@@ -18,8 +18,9 @@
 
 namespace cellfx::fx {
 
-// X(c++ name, GLSL name, value). Uniform locations are unique across all projector programs so
-// that one program may use any set of them.
+// X(c++ name, GLSL name, value). Uniform locations (kUniform..., an array's elements included)
+// are unique across all programs that include this table — the projector's and the medium's —
+// so that one program may use any set of them (gl_interface.cpp checks at compile time).
 #define FX_PROJECTOR_INTERFACE(X)                                                                  \
     /* shader storage buffers */                                                                   \
     X(kBindingFrame, BINDING_FRAME, 3)          /* per-frame data: near-plane cap triangles */     \
@@ -82,6 +83,53 @@ namespace cellfx::fx {
     X(kUniformTableCull, UNIFORM_TABLE_CULL, 54)       /* 1: cells outside the planes collapse */  \
     X(kUniformTableCullPlanes, UNIFORM_TABLE_CULL_PLANES, 55) /* 5 planes (55–59), relative frame */ \
     X(kUniformTablePlanarTolerance, UNIFORM_TABLE_PLANAR_TOLERANCE, 60) /* double: kPlanarTolerance */ \
+    /* the one medium (fx/internal/medium): its sizes, then its uniforms, clear of the above so */ \
+    /* that its append and emission passes, which are projector programs too, may use both. */    \
+    /* An array uniform takes as many locations as it has elements (static_asserts below). */    \
+    X(kMediumVolumes, MEDIUM_VOLUMES, 32)           /* MediumCompositor::kMaxVolumes */            \
+    X(kMediumPointLights, MEDIUM_POINT_LIGHTS, 8)   /* point lights the medium lights */           \
+    /* the exact compositor (medium_lists.glsl, medium_append.frag, medium_resolve.frag) */       \
+    X(kUniformMediumRegion, UNIFORM_MEDIUM_REGION, 100) /* ivec4: x, y, width, height */          \
+    X(kUniformMediumVolume, UNIFORM_MEDIUM_VOLUME, 101)                                            \
+    X(kUniformMediumCapacity, UNIFORM_MEDIUM_CAPACITY, 102)                                        \
+    X(kUniformMediumBulk, UNIFORM_MEDIUM_BULK, 103)                                                \
+    X(kUniformMediumMaskMode, UNIFORM_MEDIUM_MASK_MODE, 104)                                       \
+    X(kUniformMediumForward, UNIFORM_MEDIUM_FORWARD, 105)                                          \
+    X(kUniformMediumRight, UNIFORM_MEDIUM_RIGHT, 106)                                              \
+    X(kUniformMediumUp, UNIFORM_MEDIUM_UP, 107)                                                    \
+    X(kUniformMediumOrtho, UNIFORM_MEDIUM_ORTHO, 108)                                              \
+    X(kUniformMediumViewport, UNIFORM_MEDIUM_VIEWPORT, 109)                                        \
+    X(kUniformMediumTable, UNIFORM_MEDIUM_TABLE, 110)            /* [MEDIUM_VOLUMES] */            \
+    X(kUniformMediumMedium, UNIFORM_MEDIUM_MEDIUM, 142)          /* [MEDIUM_VOLUMES] */            \
+    X(kUniformMediumBeamOrigin, UNIFORM_MEDIUM_BEAM_ORIGIN, 174) /* [MEDIUM_VOLUMES] */            \
+    X(kUniformMediumBeamAxis, UNIFORM_MEDIUM_BEAM_AXIS, 206)     /* [MEDIUM_VOLUMES] */            \
+    X(kUniformMediumBeamColor, UNIFORM_MEDIUM_BEAM_COLOR, 238)   /* [MEDIUM_VOLUMES] */            \
+    /* the medium's point lights (medium_lights.glsl: the resolve, the froxel grid's passes) */  \
+    X(kUniformPointCount, UNIFORM_POINT_COUNT, 270)                                                \
+    X(kUniformPointPosition, UNIFORM_POINT_POSITION, 271) /* [MEDIUM_POINT_LIGHTS] */              \
+    X(kUniformPointColor, UNIFORM_POINT_COLOR, 279)       /* [MEDIUM_POINT_LIGHTS] */              \
+    X(kUniformPointG, UNIFORM_POINT_G, 287)               /* [MEDIUM_POINT_LIGHTS] */              \
+    /* the froxel grid (froxel_grid.glsl, froxel_inject.frag, froxel_integrate.comp, */           \
+    /* froxel_emission.frag, froxel_apply.frag) */                                                \
+    X(kUniformFroxelGrid, UNIFORM_FROXEL_GRID, 300)         /* tiles across, up, slices */         \
+    X(kUniformFroxelSlicing, UNIFORM_FROXEL_SLICING, 301)   /* z_near, slice step */               \
+    X(kUniformFroxelAlbedo, UNIFORM_FROXEL_ALBEDO, 302)                                            \
+    X(kUniformFroxelViewport, UNIFORM_FROXEL_VIEWPORT, 303)                                        \
+    X(kUniformFroxelBeam, UNIFORM_FROXEL_BEAM, 304)                                                \
+    X(kUniformFroxelBeamOrigin, UNIFORM_FROXEL_BEAM_ORIGIN, 305)                                   \
+    X(kUniformFroxelBeamAxis, UNIFORM_FROXEL_BEAM_AXIS, 306)                                       \
+    X(kUniformFroxelBeamColor, UNIFORM_FROXEL_BEAM_COLOR, 307)                                     \
+    X(kUniformFroxelRayOrigin, UNIFORM_FROXEL_RAY_ORIGIN, 310)     /* a tile's centre ray: */      \
+    X(kUniformFroxelRayOriginX, UNIFORM_FROXEL_RAY_ORIGIN_X, 311)  /* origin and its steps, */     \
+    X(kUniformFroxelRayOriginY, UNIFORM_FROXEL_RAY_ORIGIN_Y, 312)  /* direction and its steps */   \
+    X(kUniformFroxelRayDirection, UNIFORM_FROXEL_RAY_DIRECTION, 313) /* (fx::MediumGridRays) */    \
+    X(kUniformFroxelRayDirectionX, UNIFORM_FROXEL_RAY_DIRECTION_X, 314)                            \
+    X(kUniformFroxelRayDirectionY, UNIFORM_FROXEL_RAY_DIRECTION_Y, 315)                            \
+    X(kUniformFroxelViewForward, UNIFORM_FROXEL_VIEW_FORWARD, 316)                                 \
+    X(kUniformFroxelOrtho, UNIFORM_FROXEL_ORTHO, 317)                                              \
+    X(kUniformFroxelApplyViewport, UNIFORM_FROXEL_APPLY_VIEWPORT, 320)                             \
+    X(kUniformFroxelApplyDepthOrigin, UNIFORM_FROXEL_APPLY_DEPTH_ORIGIN, 321)                      \
+    X(kUniformFroxelApplyDepth, UNIFORM_FROXEL_APPLY_DEPTH, 322) /* near, far, depth model */      \
     /* a cell's word: (its first triangle << WORD_FIRST_SHIFT) | (planar << WORD_PLANAR_BIT) |  */ \
     /* (its triangle count − 1); planar: its tables are its faces' planes (projector_tables.comp) */ \
     X(kWordCountBits, WORD_COUNT_BITS, 4)                                                          \

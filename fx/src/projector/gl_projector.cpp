@@ -14,7 +14,7 @@
 #include "fx/error.hpp"
 #include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/state_guard.hpp"
 #include "projector/gl_interface.hpp"

@@ -124,7 +124,8 @@ void CellRenderer::set_parallel_for(const ParallelFor& parallel_for) { impl_->pa
 CellRenderer::~CellRenderer() = default;
 CellRenderer::CellRenderer(CellRenderer&&) noexcept = default;
 
-GlProjector& ProjectorAccess::projector(CellRenderer& renderer) { return *renderer.impl_->projector; }
+CellRenderer::Impl& CellRenderer::impl() { return *impl_; }
+GlProjector& renderer_projector(CellRenderer& renderer) { return *renderer.impl().projector; }
 CellRenderer& CellRenderer::operator=(CellRenderer&&) noexcept = default;
 
 std::size_t CellRenderer::cell_count() const { return impl_->projector->mesh().cell_count(); }

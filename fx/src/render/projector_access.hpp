@@ -8,8 +8,8 @@
 
 namespace cellfx::fx {
 
-struct ProjectorAccess {
-    static GlProjector& projector(CellRenderer& renderer);
-};
+// The renderer's GL projector (through CellRenderer::impl(), whose type only cellfx's own
+// sources see: no friend in the public header).
+GlProjector& renderer_projector(CellRenderer& renderer);
 
 } // namespace cellfx::fx

@@ -36,7 +36,7 @@
 #include "mesh/face_topology.hpp"
 #include "fx/mesh_validation.hpp"
 #include "fx/resource_limits.hpp"
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 #include "scanline/scanline_fragments.hpp"
 #include "scanline/scanline_frame.hpp"
 

@@ -14,7 +14,7 @@
 // J is a Gaussian integral: erfcx for increasing σ, Dawson's function for decreasing σ, the
 // exponential integral's expm1 form when σ is constant, and a power series when T is small
 // (where 1 − J and J − e^{−T} would cancel).
-#include "fx/segment_integral.hpp"
+#include "transfer/segment_integral.hpp"
 
 #include <algorithm>
 #include <array>

@@ -31,19 +31,10 @@
 #include "fx/effect.hpp"
 #include "terrain/continuous_lod.hpp"
 #include "terrain/height_field.hpp"
+#include "terrain/layer_prism_options.hpp"
 #include "terrain/terrain_lod.hpp"
 
 namespace cellfx::terrain {
-
-enum class LayerDensity { LayerHeight, Noise, LowerBorder };
-
-struct LayerPrismOptions {
-    LayerDensity density = LayerDensity::LayerHeight;
-    double density_scale = 1.0;
-    HeightGenerator noise;             // LayerDensity::Noise: world (x, y) → density before scaling
-    double fade_height = 0.0;          // LayerDensity::LowerBorder: where the density reaches 0 (> 0)
-    std::string scalar_name = "density";
-};
 
 struct LayerPrismStats {
     std::size_t triangles = 0;   // LOD triangles looked at

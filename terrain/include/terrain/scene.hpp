@@ -66,17 +66,17 @@
 
 #include "fx/camera.hpp"
 #include "fx/campfire.hpp"
-#include "fx/cell_renderer.hpp"
 #include "fx/laser_cone.hpp"
 #include "fx/medium.hpp"
+#include "fx/render_path.hpp"
 #include "fx/search_light.hpp"
 #include "fx/transfer_function.hpp"
 #include "fx/volume.hpp"
 #include "terrain/aurora.hpp"
-#include "terrain/continuous_lod.hpp"
-#include "terrain/fog_layer.hpp"
 #include "terrain/height_field.hpp"
-#include "terrain/surface_renderer.hpp"
+#include "terrain/layer_prism_options.hpp"
+#include "terrain/lod_settings.hpp"
+#include "terrain/surface_style.hpp"
 
 namespace cellfx::terrain {
 

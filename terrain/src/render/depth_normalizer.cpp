@@ -7,6 +7,7 @@
 
 #include "fx/error.hpp"
 #include "gl/gl_check.hpp"
+#include "render/terrain_interface.hpp"
 #include "render/terrain_shaders.hpp"
 
 namespace cellfx::terrain {
@@ -149,9 +150,9 @@ void DepthNormalizer::draw(GLuint texture, const DepthConvention& convention, co
     glDepthMask(GL_TRUE);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glUseProgram(program.id());
-    glProgramUniform2i(program.id(), 0, viewport.x - dst_x, viewport.y - dst_y);
-    glProgramUniform2f(program.id(), 1, float(map.x), float(map.y));
-    glProgramUniform1i(program.id(), 2, info.samples);
+    glProgramUniform2i(program.id(), kUniformNormalizeOffset, viewport.x - dst_x, viewport.y - dst_y);
+    glProgramUniform2f(program.id(), kUniformNormalizeMap, float(map.x), float(map.y));
+    glProgramUniform1i(program.id(), kUniformNormalizeSamples, info.samples);
     glBindVertexArray(vao_.id());
     glBindTextureUnit(0, texture);
     glBindSampler(0, sampler_.id());

@@ -9,6 +9,7 @@
 #include "fx/error.hpp"
 #include "gl/gl_check.hpp"
 #include "gl/state_guard.hpp"
+#include "render/terrain_interface.hpp"
 #include "render/terrain_shaders.hpp"
 
 namespace cellfx::terrain {
@@ -61,8 +62,8 @@ void FxLayer::begin(int width, int height, double scale, unsigned depth, glm::iv
         glDepthMask(GL_TRUE);
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         glUseProgram(reduce_.id());
-        glProgramUniform2i(reduce_.id(), 0, depth_origin.x, depth_origin.y);
-        glProgramUniform4i(reduce_.id(), 1, width, height, size.x, size.y);
+        glProgramUniform2i(reduce_.id(), kUniformLayerDepthOrigin, depth_origin.x, depth_origin.y);
+        glProgramUniform4i(reduce_.id(), kUniformLayerDepthSizes, width, height, size.x, size.y);
         glBindVertexArray(vao_.id());
         glBindTextureUnit(0, depth);
         glBindSampler(0, nearest_.id());
@@ -86,10 +87,11 @@ void FxLayer::composite(const fx::Viewport& viewport, unsigned depth, glm::ivec2
     glEnablei(GL_BLEND, 0);
     glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glProgramUniform4f(p, 0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
-    glProgramUniform2i(p, 1, depth_origin.x, depth_origin.y);
-    glProgramUniform2i(p, 2, target_.width(), target_.height());
-    glProgramUniform3f(p, 3, float(camera.near_distance), float(camera.far_distance),
+    glProgramUniform4f(p, kUniformLayerViewport, float(viewport.x), float(viewport.y), float(viewport.width),
+                       float(viewport.height));
+    glProgramUniform2i(p, kUniformLayerUpsampleDepthOrigin, depth_origin.x, depth_origin.y);
+    glProgramUniform2i(p, kUniformLayerLowSize, target_.width(), target_.height());
+    glProgramUniform3f(p, kUniformLayerDepthModel, float(camera.near_distance), float(camera.far_distance),
                        depth == 0 || !has_depth_ ? 0.0f : camera.orthographic() ? 2.0f : 1.0f);
     glUseProgram(p);
     glBindVertexArray(vao_.id());

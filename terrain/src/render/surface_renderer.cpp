@@ -15,26 +15,28 @@
 #include "gl/gl_object.hpp"
 #include "gl/scatter_pass.hpp"
 #include "gl/state_guard.hpp"
+#include "render/terrain_interface.hpp"
 #include "render/terrain_shaders.hpp"
 
 namespace cellfx::terrain {
 
 namespace {
 
+// Uniform locations: the terrain's interface table (render/terrain_interface.hpp), named here.
 enum Uniform : GLint {
-    kViewProjection = 0,
-    kFieldOrigin = 1,
-    kTexel = 2,
-    kHeightRange = 3,
-    kSun = 4,
-    kAmbient = 5,
-    kStops = 6,
-    kRamp = 8,
-    kSize = 16,
-    kFirstSample = 17,
-    kSpacing = 18,
+    kViewProjection = kUniformSurfaceViewProjection,
+    kFieldOrigin = kUniformSurfaceFieldOrigin,
+    kTexel = kUniformSurfaceTexel,
+    kHeightRange = kUniformSurfaceHeightRange,
+    kSun = kUniformSurfaceSun,
+    kAmbient = kUniformSurfaceAmbient,
+    kStops = kUniformSurfaceStops,
+    kRamp = kUniformSurfaceRamp,
+    kSize = kUniformSurfaceSize,
+    kFirstSample = kUniformSurfaceFirstSample,
+    kSpacing = kUniformSurfaceSpacing,
 };
-constexpr int kMaxStops = 8;
+constexpr int kMaxStops = kSurfaceMaxStops;
 constexpr std::uint32_t kFanIndices = 24; // a fan slot's 8 triangles (unused ones collapsed to its centre)
 
 } // namespace

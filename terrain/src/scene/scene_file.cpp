@@ -18,6 +18,7 @@
 #include "fx/resource_limits.hpp"
 #include "io/input_file.hpp"
 #include "io/json_input.hpp"
+#include "terrain/fog_layer.hpp"
 #include "terrain/scene.hpp"
 
 namespace cellfx::terrain {

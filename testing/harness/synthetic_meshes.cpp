@@ -1,5 +1,5 @@
 // Based on: Wilhelms, Tarantino & Van Gelder 1995, §4.1 and Table 3 (data-set dimensions)
-#include "scanline/synthetic_meshes.hpp"
+#include "harness/synthetic_meshes.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,8 @@
 // ray, and the integrals below are evaluated in closed form (no quadrature).
 //
 // These functions are the one source of truth: the CPU scan-line reference calls them per
-// pixel, and the GPU paths' lookup tables are built from them.
+// pixel, and the GPU paths' lookup tables are built from them. Private to cellfx (not
+// installed): a user reaches them through fx::ScanlineRenderer and fx::Medium.
 //
 // Conventions shared by all of them: s_front > s_back is fine (the ray runs down the scalar);
 // a breakpoint step is crossed with the value on the side the ray comes from; scalars outside
@@ -22,6 +23,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp> // PreintegrationTable::rgba
 
+#include "fx/segment_color.hpp"
 #include "fx/transfer_function.hpp"
 
 namespace cellfx::fx {
@@ -38,11 +40,7 @@ glm::dvec3 segment_maximum(const TransferFunction& tf, double s_front, double s_
 //   colour = ∫₀ˡ c(t)σ(t)·exp(−∫₀ᵗ σ) dt   (premultiplied),   alpha = 1 − exp(−τ),   τ = ∫₀ˡ σ.
 // Stable for huge extinction (exp underflow → alpha 1, colour finite), tiny extinction
 // (1 − e^(−x) without cancellation) and l → 0.
-struct SegmentColor {
-    glm::dvec3 color{0.0};
-    double alpha = 0.0;
-    double optical_depth = 0.0; // τ
-};
+// SegmentColor: fx/segment_color.hpp.
 SegmentColor emission_absorption(const TransferFunction& tf, double s_front, double s_back, double length);
 
 // Front-to-back "over": `front` in front of `back`. Uses the alphas (colour and alpha add with

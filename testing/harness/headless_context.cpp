@@ -1,5 +1,5 @@
 // EGL headless context: device platform on NVIDIA, Mesa surfaceless otherwise.
-#include "fx/headless_context.hpp"
+#include "harness/headless_context.hpp"
 
 #include <cstdio>
 #include <cstdlib>
