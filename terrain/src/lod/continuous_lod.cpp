@@ -307,8 +307,8 @@ struct ContinuousLod::Impl {
         morphing_count = morphing_count + (now_morphing ? 1 : 0) - (was_morphing ? 1 : 0);
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
         const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
-        // Morphing nodes come due every few frames: a list scanned once a frame is cheaper for
-        // them than a heap (see advance()); the others may sleep for a long flight.
+        // A heap for the nodes not morphing: they may sleep for a long flight (the morphing ones,
+        // due every few frames, are in a list scanned once a frame: see above and advance()).
         wakes.push(Wake{odometer + travel, s, ++nodes[s].generation});
     }
 
