@@ -5,6 +5,7 @@
 #include "fx/cell_mesh.hpp"
 #include "fx/error.hpp"
 #include "gl/state_guard.hpp"
+#include "gl/uniform_table.hpp"
 
 namespace cellfx::fx {
 
@@ -14,16 +15,10 @@ static_assert(kUnitCount <= gl::StateGuard::kUnits, "extend gl::StateGuard::kUni
 namespace {
 
 // The table's uniform locations with the number each takes (an array's elements), checked at
-// compile time: no two overlap, so any program may use any set of them.
-struct UniformEntry {
-    std::string_view name;
-    int location = 0;
-};
-#define FX_INTERFACE_ENTRY(name, glsl, value) UniformEntry{#name, value},
-constexpr UniformEntry kEntries[] = {FX_PROJECTOR_INTERFACE(FX_INTERFACE_ENTRY)};
+// compile time (gl/uniform_table.hpp).
+#define FX_INTERFACE_ENTRY(name, glsl, value) gl::UniformEntry{#name, value},
+constexpr gl::UniformEntry kEntries[] = {FX_PROJECTOR_INTERFACE(FX_INTERFACE_ENTRY)};
 #undef FX_INTERFACE_ENTRY
-
-constexpr bool is_uniform(std::string_view name) { return name.substr(0, 8) == "kUniform"; }
 
 constexpr int locations_taken(std::string_view name) {
     if (name == "kUniformTableCullPlanes") return 5;
@@ -34,23 +29,10 @@ constexpr int locations_taken(std::string_view name) {
         return kMediumPointLights;
     return 1;
 }
-
-constexpr bool uniform_locations_apart() {
-    for (const UniformEntry& a : kEntries)
-        for (const UniformEntry& b : kEntries)
-            if (is_uniform(a.name) && is_uniform(b.name) && a.name != b.name && a.location <= b.location &&
-                b.location < a.location + locations_taken(a.name))
-                return false;
-    return true;
-}
-constexpr int locations_end() {
-    int end = 0;
-    for (const UniformEntry& a : kEntries)
-        if (is_uniform(a.name) && a.location + locations_taken(a.name) > end) end = a.location + locations_taken(a.name);
-    return end;
-}
-static_assert(uniform_locations_apart(), "two uniform locations of FX_PROJECTOR_INTERFACE overlap");
-static_assert(locations_end() <= 1024, "uniform locations beyond GL 4.5's guaranteed GL_MAX_UNIFORM_LOCATIONS");
+static_assert(gl::uniform_locations_apart(kEntries, locations_taken),
+              "two uniform locations of FX_PROJECTOR_INTERFACE overlap");
+static_assert(gl::uniform_locations_end(kEntries, locations_taken) <= gl::kGuaranteedUniformLocations,
+              "uniform locations beyond GL 4.5's guaranteed GL_MAX_UNIFORM_LOCATIONS");
 
 } // namespace
 

@@ -2,6 +2,7 @@
 
 #include <string_view>
 
+#include "gl/uniform_table.hpp"
 #include "render/terrain_interface.hpp"
 
 namespace cellfx::fx::gl {
@@ -14,27 +15,15 @@ namespace cellfx::terrain {
 namespace {
 
 // The table's uniform locations with the number each takes (the ramp's stops), checked at
-// compile time: no two overlap.
-struct UniformEntry {
-    std::string_view name;
-    int location = 0;
-};
-#define TERRAIN_INTERFACE_ENTRY(name, glsl, value) UniformEntry{#name, value},
-constexpr UniformEntry kEntries[] = {TERRAIN_INTERFACE(TERRAIN_INTERFACE_ENTRY)};
+// compile time (gl/uniform_table.hpp).
+#define TERRAIN_INTERFACE_ENTRY(name, glsl, value) fx::gl::UniformEntry{#name, value},
+constexpr fx::gl::UniformEntry kEntries[] = {TERRAIN_INTERFACE(TERRAIN_INTERFACE_ENTRY)};
 #undef TERRAIN_INTERFACE_ENTRY
 
-constexpr bool is_uniform(std::string_view name) { return name.substr(0, 8) == "kUniform"; }
 constexpr int locations_taken(std::string_view name) { return name == "kUniformSurfaceRamp" ? kSurfaceMaxStops : 1; }
-
-constexpr bool uniform_locations_apart() {
-    for (const UniformEntry& a : kEntries)
-        for (const UniformEntry& b : kEntries)
-            if (is_uniform(a.name) && is_uniform(b.name) && a.name != b.name && a.location <= b.location &&
-                b.location < a.location + locations_taken(a.name))
-                return false;
-    return true;
-}
-static_assert(uniform_locations_apart(), "two uniform locations of TERRAIN_INTERFACE overlap");
+static_assert(fx::gl::uniform_locations_apart(kEntries, locations_taken), "two uniform locations of TERRAIN_INTERFACE overlap");
+static_assert(fx::gl::uniform_locations_end(kEntries, locations_taken) <= fx::gl::kGuaranteedUniformLocations,
+              "uniform locations beyond GL 4.5's guaranteed GL_MAX_UNIFORM_LOCATIONS");
 
 } // namespace
 
