@@ -279,7 +279,8 @@ TEST_CASE("The scene parser reads every effect parameter through its table", "[e
     CHECK(beam.sweep.period == 2.5);
     CHECK(beam.sweep.phase_degrees == fx::SweepMotion{}.phase_degrees); // the default kept
     CHECK(beam.segments == 5);
-    const auto& fire = std::get<fx::CampfireParams>(parse(entry("campfire", R"("seed": 4294967295)")).effects[0].params);
+    const terrain::Scene fire_scene = parse(entry("campfire", R"("seed": 4294967295)"));
+    const auto& fire = std::get<fx::CampfireParams>(fire_scene.effects[0].params);
     CHECK(fire.seed == 4294967295u);
     // Errors name the file, the entry and the key.
     CHECK_THROWS_WITH(parse(entry("campfire", R"("seed": -1)")), Catch::Contains("fx.json: effects[0].seed: must be in 0..4294967295"));
