@@ -28,30 +28,9 @@
 namespace cellfx::fx {
 namespace {
 
-// Uniform locations (froxel_grid.glsl, froxel_inject.frag, froxel_integrate.comp,
-// froxel_emission.frag, froxel_apply.frag, medium_lights.glsl): the interface table's
-// (projector/gl_interface.hpp), named here for this file.
-enum Uniform : GLint {
-    kGrid = cellfx::fx::kUniformFroxelGrid,
-    kSlicing = cellfx::fx::kUniformFroxelSlicing,
-    kAlbedo = cellfx::fx::kUniformFroxelAlbedo,
-    kViewport = cellfx::fx::kUniformFroxelViewport,
-    kBeam = cellfx::fx::kUniformFroxelBeam,
-    kBeamOrigin = cellfx::fx::kUniformFroxelBeamOrigin,
-    kBeamAxis = cellfx::fx::kUniformFroxelBeamAxis,
-    kBeamColor = cellfx::fx::kUniformFroxelBeamColor,
-    kRayOrigin = cellfx::fx::kUniformFroxelRayOrigin, // .. + 5: origin, its x and y steps, direction, its x and y steps (ndc)
-    kViewForward = cellfx::fx::kUniformFroxelViewForward,
-    kOrtho = cellfx::fx::kUniformFroxelOrtho,
-    kPointCount = cellfx::fx::kUniformPointCount,
-    kPointPosition = cellfx::fx::kUniformPointPosition,
-    kPointColor = cellfx::fx::kUniformPointColor,
-    kPointG = cellfx::fx::kUniformPointG,
-    kApplyViewport = cellfx::fx::kUniformFroxelApplyViewport,
-    kApplyDepthOrigin = cellfx::fx::kUniformFroxelApplyDepthOrigin,
-    kApplyDepth = cellfx::fx::kUniformFroxelApplyDepth,
-};
-static_assert(cellfx::fx::kUniformFroxelRayDirectionY == kRayOrigin + 5, "the six ray uniforms in a row");
+// Uniform locations are the interface table's (projector/gl_interface.hpp). The six ray uniforms
+// from kUniformFroxelRayOrigin: origin, its x and y steps, direction, its x and y steps (ndc).
+static_assert(cellfx::fx::kUniformFroxelRayDirectionY == kUniformFroxelRayOrigin + 5, "the six ray uniforms in a row");
 static_assert(cellfx::fx::FroxelMedium::kMaxPointLights == cellfx::fx::kMediumPointLights, "medium_lights.glsl's size");
 constexpr GLuint kInjectionBinding = 4;
 constexpr GLuint kIntegratedUnit = 0, kScatteringImage = 1;       // integrate: image units
@@ -167,8 +146,8 @@ void FroxelMedium::Impl::allocate(glm::ivec3 size) {
 }
 
 void FroxelMedium::Impl::set_grid_uniforms(GLuint program) const {
-    glProgramUniform3i(program, kGrid, grid.x, grid.y, grid.z);
-    glProgramUniform2f(program, kSlicing, slicing.x, slicing.y);
+    glProgramUniform3i(program, kUniformFroxelGrid, grid.x, grid.y, grid.z);
+    glProgramUniform2f(program, kUniformFroxelSlicing, slicing.x, slicing.y);
 }
 
 void FroxelMedium::begin(const Camera& camera, int width, int height, double far_depth,
@@ -233,7 +212,7 @@ void FroxelMedium::inject(CellRenderer& renderer, const glm::dmat4& world_from_l
     projector.set_view_uniforms(*program, local, grid_view);
     projector.set_scene_depth_uniforms(*program, local, grid_view, 0);
     m.set_grid_uniforms(p);
-    glProgramUniform1f(p, kAlbedo, float(v.albedo));
+    glProgramUniform1f(p, kUniformFroxelAlbedo, float(v.albedo));
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.no_target.id());
     glViewportIndexedf(0, 0.0f, 0.0f, float(m.grid.x), float(m.grid.y));
     glEnable(GL_CULL_FACE);
@@ -271,9 +250,9 @@ void FroxelMedium::integrate() {
         direction = forward, direction_x = direction_y = glm::dvec3(0.0);
     }
     const glm::dvec3 rays[6] = {origin, origin_x, origin_y, direction, direction_x, direction_y};
-    for (int i = 0; i < 6; ++i) glProgramUniform3fv(p, kRayOrigin + i, 1, glm::value_ptr(vec3f(rays[i])));
-    glProgramUniform3fv(p, kViewForward, 1, glm::value_ptr(vec3f(forward)));
-    glProgramUniform1i(p, kOrtho, m.camera.orthographic() ? 1 : 0);
+    for (int i = 0; i < 6; ++i) glProgramUniform3fv(p, kUniformFroxelRayOrigin + i, 1, glm::value_ptr(vec3f(rays[i])));
+    glProgramUniform3fv(p, kUniformFroxelViewForward, 1, glm::value_ptr(vec3f(forward)));
+    glProgramUniform1i(p, kUniformFroxelOrtho, m.camera.orthographic() ? 1 : 0);
     // The point lights (a fire's glow) of every volume, eye-relative.
     std::array<glm::vec4, kMaxPointLights> position{}, color{};
     std::array<float, kMaxPointLights> g{};
@@ -286,10 +265,10 @@ void FroxelMedium::integrate() {
         g[points] = float(l.phase_g);
         ++points;
     }
-    glProgramUniform1i(p, kPointCount, points);
-    glProgramUniform4fv(p, kPointPosition, kMaxPointLights, glm::value_ptr(position[0]));
-    glProgramUniform4fv(p, kPointColor, kMaxPointLights, glm::value_ptr(color[0]));
-    glProgramUniform1fv(p, kPointG, kMaxPointLights, g.data());
+    glProgramUniform1i(p, kUniformPointCount, points);
+    glProgramUniform4fv(p, kUniformPointPosition, kMaxPointLights, glm::value_ptr(position[0]));
+    glProgramUniform4fv(p, kUniformPointColor, kMaxPointLights, glm::value_ptr(color[0]));
+    glProgramUniform1fv(p, kUniformPointG, kMaxPointLights, g.data());
     m.timed_begin();
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kInjectionBinding, m.injection.id());
@@ -313,9 +292,9 @@ void FroxelMedium::apply(const Viewport& viewport, unsigned scene_depth, glm::iv
     gl::StateGuard::set_render_defaults();
     const GLuint p = m.apply_program.id();
     m.set_grid_uniforms(p);
-    glProgramUniform4f(p, kApplyViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
-    glProgramUniform2i(p, kApplyDepthOrigin, depth_origin.x, depth_origin.y);
-    glProgramUniform3f(p, kApplyDepth, float(m.camera.near_distance), float(m.camera.far_distance),
+    glProgramUniform4f(p, kUniformFroxelApplyViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glProgramUniform2i(p, kUniformFroxelApplyDepthOrigin, depth_origin.x, depth_origin.y);
+    glProgramUniform3f(p, kUniformFroxelApplyDepth, float(m.camera.near_distance), float(m.camera.far_distance),
                        scene_depth == 0 ? 0.0f : m.camera.orthographic() ? 2.0f : 1.0f);
     glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
     glEnablei(GL_BLEND, 0);
@@ -362,19 +341,19 @@ void FroxelMedium::draw_emission(CellRenderer& renderer, const glm::dmat4& world
     projector.set_scene_depth_uniforms(program, local, Viewport{0, 0, viewport.width, viewport.height}, scene_depth);
     GlProjector::bind_scene_depth(scene_depth);
     m.set_grid_uniforms(p);
-    glProgramUniform4f(p, kViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glProgramUniform4f(p, kUniformFroxelViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
     const MediumLight& l = v.light;
     if (l.kind == MediumLight::Kind::Beam) {
         // The beam in the projector's relative frame (the mesh's own frame, about its centre).
         const glm::dmat4 local_from_world = glm::inverse(world_from_local);
         const glm::dvec3 origin = glm::dvec3(local_from_world * glm::dvec4(l.origin, 1.0)) - projector.geometry().origin;
         const glm::dvec3 axis = glm::normalize(glm::dvec3(local_from_world * glm::dvec4(l.axis, 0.0)));
-        glProgramUniform4f(p, kBeam, 1.0f, float(l.phase_g), float(l.strength_per_scalar), float(l.apex_distance));
-        glProgramUniform3fv(p, kBeamOrigin, 1, glm::value_ptr(vec3f(origin)));
-        glProgramUniform3fv(p, kBeamAxis, 1, glm::value_ptr(vec3f(axis)));
-        glProgramUniform3fv(p, kBeamColor, 1, glm::value_ptr(vec3f(l.color)));
+        glProgramUniform4f(p, kUniformFroxelBeam, 1.0f, float(l.phase_g), float(l.strength_per_scalar), float(l.apex_distance));
+        glProgramUniform3fv(p, kUniformFroxelBeamOrigin, 1, glm::value_ptr(vec3f(origin)));
+        glProgramUniform3fv(p, kUniformFroxelBeamAxis, 1, glm::value_ptr(vec3f(axis)));
+        glProgramUniform3fv(p, kUniformFroxelBeamColor, 1, glm::value_ptr(vec3f(l.color)));
     } else {
-        glProgramUniform4f(p, kBeam, 0.0f, 0.0f, 0.0f, 0.0f);
+        glProgramUniform4f(p, kUniformFroxelBeam, 0.0f, 0.0f, 0.0f, 0.0f);
     }
     glViewportIndexedf(0, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
     glEnable(GL_CULL_FACE);

@@ -30,31 +30,8 @@
 namespace cellfx::fx {
 namespace {
 
-// Uniform locations (medium_lists.glsl, medium_append.frag, medium_resolve.frag,
-// medium_lights.glsl): the interface table's (projector/gl_interface.hpp), which the append
-// program, a projector program too, shares; named here for this file.
-enum Uniform : GLint {
-    kRegion = kUniformMediumRegion,
-    kVolume = kUniformMediumVolume,
-    kCapacity = kUniformMediumCapacity,
-    kBulk = kUniformMediumBulk,
-    kMaskMode = kUniformMediumMaskMode,
-    kForward = kUniformMediumForward,
-    kRight = kUniformMediumRight,
-    kUp = kUniformMediumUp,
-    kOrtho = kUniformMediumOrtho,
-    kViewport = kUniformMediumViewport,
-    kTable = kUniformMediumTable,
-    kMedium = kUniformMediumMedium,
-    kBeamOrigin = kUniformMediumBeamOrigin,
-    kBeamAxis = kUniformMediumBeamAxis,
-    kBeamColor = kUniformMediumBeamColor,
-    kPointCount = kUniformPointCount,
-    kPointPosition = kUniformPointPosition,
-    kPointColor = kUniformPointColor,
-    kPointG = kUniformPointG,
-};
-constexpr int kMaxPointLights = kMediumPointLights;
+// Uniform locations are the interface table's (projector/gl_interface.hpp), which the append
+// program, a projector program too, shares.
 static_assert(MediumCompositor::kMaxVolumes == kMediumVolumes, "medium_resolve.frag's size");
 constexpr GLuint kListsBinding = 3;
 constexpr GLuint kTablesUnit = 0, kMaskUnit = 1, kBehindUnit = 2;
@@ -178,16 +155,16 @@ void MediumCompositor::Impl::set_resolve_uniforms() {
     const glm::dvec3 centre = near_point(0.0, 0.0), right = near_point(1.0, 0.0) - centre, up = near_point(0.0, 1.0) - centre;
     // Perspective: direction = normalize(centre + ndc.x·right + ndc.y·up); orthographic: origin
     // ndc.x·right + ndc.y·up on the eye plane, direction forward.
-    glProgramUniform3fv(p, kForward, 1, glm::value_ptr(vec3f(camera.orthographic() ? forward : centre)));
-    glProgramUniform3fv(p, kRight, 1, glm::value_ptr(vec3f(right)));
-    glProgramUniform3fv(p, kUp, 1, glm::value_ptr(vec3f(up)));
-    glProgramUniform1i(p, kOrtho, camera.orthographic() ? 1 : 0);
-    glProgramUniform4f(p, kViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
-    glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
+    glProgramUniform3fv(p, kUniformMediumForward, 1, glm::value_ptr(vec3f(camera.orthographic() ? forward : centre)));
+    glProgramUniform3fv(p, kUniformMediumRight, 1, glm::value_ptr(vec3f(right)));
+    glProgramUniform3fv(p, kUniformMediumUp, 1, glm::value_ptr(vec3f(up)));
+    glProgramUniform1i(p, kUniformMediumOrtho, camera.orthographic() ? 1 : 0);
+    glProgramUniform4f(p, kUniformMediumViewport, float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height));
+    glProgramUniform4i(p, kUniformMediumRegion, region.x, region.y, region.width, region.height);
 
     std::array<glm::vec4, kMaxVolumes> medium{}, origin{}, axis{}, color{};
-    std::array<glm::vec4, kMaxPointLights> point_position{}, point_color{};
-    std::array<float, kMaxPointLights> point_g{};
+    std::array<glm::vec4, kMediumPointLights> point_position{}, point_color{};
+    std::array<float, kMediumPointLights> point_g{};
     int points = 0;
     for (std::size_t v = 0; v < volumes.size(); ++v) {
         const MediumVolume& vol = volumes[v];
@@ -198,22 +175,22 @@ void MediumCompositor::Impl::set_resolve_uniforms() {
             origin[v] = glm::vec4(vec3f(light.origin - camera.eye), float(light.apex_distance));
             axis[v] = glm::vec4(vec3f(glm::normalize(light.axis)), float(light.strength_per_scalar));
             color[v] = glm::vec4(vec3f(light.color), 0.0f);
-        } else if (light.kind == MediumLight::Kind::Point && points < kMaxPointLights) {
+        } else if (light.kind == MediumLight::Kind::Point && points < kMediumPointLights) {
             point_position[points] = glm::vec4(vec3f(light.origin - camera.eye), float(light.core_radius));
             point_color[points] = glm::vec4(vec3f(light.color), float(light.radius));
             point_g[points] = float(light.phase_g);
             ++points;
         }
     }
-    glProgramUniform4fv(p, kTable, kMaxVolumes, glm::value_ptr(table_params[0]));
-    glProgramUniform4fv(p, kMedium, kMaxVolumes, glm::value_ptr(medium[0]));
-    glProgramUniform4fv(p, kBeamOrigin, kMaxVolumes, glm::value_ptr(origin[0]));
-    glProgramUniform4fv(p, kBeamAxis, kMaxVolumes, glm::value_ptr(axis[0]));
-    glProgramUniform4fv(p, kBeamColor, kMaxVolumes, glm::value_ptr(color[0]));
-    glProgramUniform1i(p, kPointCount, points);
-    glProgramUniform4fv(p, kPointPosition, kMaxPointLights, glm::value_ptr(point_position[0]));
-    glProgramUniform4fv(p, kPointColor, kMaxPointLights, glm::value_ptr(point_color[0]));
-    glProgramUniform1fv(p, kPointG, kMaxPointLights, point_g.data());
+    glProgramUniform4fv(p, kUniformMediumTable, kMaxVolumes, glm::value_ptr(table_params[0]));
+    glProgramUniform4fv(p, kUniformMediumMedium, kMaxVolumes, glm::value_ptr(medium[0]));
+    glProgramUniform4fv(p, kUniformMediumBeamOrigin, kMaxVolumes, glm::value_ptr(origin[0]));
+    glProgramUniform4fv(p, kUniformMediumBeamAxis, kMaxVolumes, glm::value_ptr(axis[0]));
+    glProgramUniform4fv(p, kUniformMediumBeamColor, kMaxVolumes, glm::value_ptr(color[0]));
+    glProgramUniform1i(p, kUniformPointCount, points);
+    glProgramUniform4fv(p, kUniformPointPosition, kMediumPointLights, glm::value_ptr(point_position[0]));
+    glProgramUniform4fv(p, kUniformPointColor, kMediumPointLights, glm::value_ptr(point_color[0]));
+    glProgramUniform1fv(p, kUniformPointG, kMediumPointLights, point_g.data());
     FX_GL_CHECK("medium resolve uniforms");
 }
 
@@ -330,10 +307,10 @@ void MediumCompositor::Impl::draw_append(const Append& a) {
     projector.set_view_uniforms(program, a.local_camera, viewport);
     projector.set_scene_depth_uniforms(program, a.local_camera, viewport, a.scene_depth);
     GlProjector::bind_scene_depth(a.scene_depth);
-    glProgramUniform4i(p, kRegion, region.x, region.y, region.width, region.height);
-    glProgramUniform1ui(p, kVolume, GLuint(a.volume));
-    glProgramUniform1ui(p, kCapacity, GLuint(capacity));
-    glProgramUniform1i(p, kMaskMode, int(a.volume) == bulk ? 1 : 0);
+    glProgramUniform4i(p, kUniformMediumRegion, region.x, region.y, region.width, region.height);
+    glProgramUniform1ui(p, kUniformMediumVolume, GLuint(a.volume));
+    glProgramUniform1ui(p, kUniformMediumCapacity, GLuint(capacity));
+    glProgramUniform1i(p, kUniformMediumMaskMode, int(a.volume) == bulk ? 1 : 0);
     glUseProgram(p);
     projector.draw_slots(0, projector.mesh().cell_count());
     FX_GL_CHECK("medium append");
@@ -415,8 +392,8 @@ MediumStats MediumCompositor::resolve(unsigned behind_texture) {
     glBindSampler(kMaskUnit, 0);
     glBindTextureUnit(kBehindUnit, behind_texture);
     glBindSampler(kBehindUnit, 0);
-    glProgramUniform4i(m.resolve_program.id(), kRegion, m.region.x, m.region.y, m.region.width, m.region.height);
-    glProgramUniform1i(m.resolve_program.id(), kBulk, m.bulk);
+    glProgramUniform4i(m.resolve_program.id(), kUniformMediumRegion, m.region.x, m.region.y, m.region.width, m.region.height);
+    glProgramUniform1i(m.resolve_program.id(), kUniformMediumBulk, m.bulk);
     glUseProgram(m.resolve_program.id());
     glBindVertexArray(m.vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);

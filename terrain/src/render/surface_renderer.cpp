@@ -22,21 +22,6 @@ namespace cellfx::terrain {
 
 namespace {
 
-// Uniform locations: the terrain's interface table (render/terrain_interface.hpp), named here.
-enum Uniform : GLint {
-    kViewProjection = kUniformSurfaceViewProjection,
-    kFieldOrigin = kUniformSurfaceFieldOrigin,
-    kTexel = kUniformSurfaceTexel,
-    kHeightRange = kUniformSurfaceHeightRange,
-    kSun = kUniformSurfaceSun,
-    kAmbient = kUniformSurfaceAmbient,
-    kStops = kUniformSurfaceStops,
-    kRamp = kUniformSurfaceRamp,
-    kSize = kUniformSurfaceSize,
-    kFirstSample = kUniformSurfaceFirstSample,
-    kSpacing = kUniformSurfaceSpacing,
-};
-constexpr int kMaxStops = kSurfaceMaxStops;
 constexpr std::uint32_t kFanIndices = 24; // a fan slot's 8 triangles (unused ones collapsed to its centre)
 
 } // namespace
@@ -207,7 +192,7 @@ SurfaceStats SurfaceRenderer::Impl::draw_indices(const fx::Camera& camera, const
                                                  const SurfaceStyle& style, SurfaceStats stats,
                                                  std::chrono::steady_clock::time_point start) {
     if (viewport.width <= 0 || viewport.height <= 0) throw fx::Error("terrain surface: empty viewport");
-    if (style.ramp.empty() || style.ramp.size() > std::size_t(kMaxStops))
+    if (style.ramp.empty() || style.ramp.size() > std::size_t(kSurfaceMaxStops))
         throw fx::Error("terrain surface: the colour ramp needs 1 to 8 stops");
     if (index_count == 0) return stats;
 
@@ -218,22 +203,22 @@ SurfaceStats SurfaceRenderer::Impl::draw_indices(const fx::Camera& camera, const
     const double aspect = double(viewport.width) / double(viewport.height);
     const glm::mat4 vp(relative.projection_matrix(aspect) * relative.view_matrix());
     const GLuint p = program.id();
-    glProgramUniformMatrix4fv(p, kViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
-    glProgramUniform2f(p, kFieldOrigin, float(field_x0 - origin.x), float(field_y0 - origin.y));
-    glProgramUniform2f(p, kTexel, float(1.0 / spacing), float(1.0 / size));
+    glProgramUniformMatrix4fv(p, kUniformSurfaceViewProjection, 1, GL_FALSE, glm::value_ptr(vp));
+    glProgramUniform2f(p, kUniformSurfaceFieldOrigin, float(field_x0 - origin.x), float(field_y0 - origin.y));
+    glProgramUniform2f(p, kUniformSurfaceTexel, float(1.0 / spacing), float(1.0 / size));
     const float range = std::max(highest - lowest, 1e-12f);
-    glProgramUniform2f(p, kHeightRange, float(lowest - origin.z), 1.0f / range);
+    glProgramUniform2f(p, kUniformSurfaceHeightRange, float(lowest - origin.z), 1.0f / range);
     const glm::vec3 sun(glm::normalize(style.sun_direction));
-    glProgramUniform3fv(p, kSun, 1, glm::value_ptr(sun));
-    glProgramUniform1f(p, kAmbient, float(style.ambient));
-    glProgramUniform1i(p, kStops, GLint(style.ramp.size()));
+    glProgramUniform3fv(p, kUniformSurfaceSun, 1, glm::value_ptr(sun));
+    glProgramUniform1f(p, kUniformSurfaceAmbient, float(style.ambient));
+    glProgramUniform1i(p, kUniformSurfaceStops, GLint(style.ramp.size()));
     for (std::size_t k = 0; k < style.ramp.size(); ++k) {
         const auto& [f, c] = style.ramp[k];
-        glProgramUniform4f(p, kRamp + GLint(k), float(f), float(c.r), float(c.g), float(c.b));
+        glProgramUniform4f(p, kUniformSurfaceRamp + GLint(k), float(f), float(c.r), float(c.g), float(c.b));
     }
-    glProgramUniform1i(p, kSize, size);
-    glProgramUniform2f(p, kFirstSample, float(field_x0 - origin.x), float(field_y0 - origin.y));
-    glProgramUniform1f(p, kSpacing, float(spacing));
+    glProgramUniform1i(p, kUniformSurfaceSize, size);
+    glProgramUniform2f(p, kUniformSurfaceFirstSample, float(field_x0 - origin.x), float(field_y0 - origin.y));
+    glProgramUniform1f(p, kUniformSurfaceSpacing, float(spacing));
 
     {
         fx::gl::StateGuard guard;
