@@ -1,10 +1,11 @@
 #version 450 core
 // Lambert shading of a box under one directional light, plus ambient.
+#include "sample_interface.glsl"
 
 layout(location = 0) in vec3 v_normal;
-layout(location = 2) uniform vec3 u_color;
-layout(location = 3) uniform vec3 u_light; // unit, towards the light
-layout(location = 4) uniform float u_ambient;
+layout(location = UNIFORM_PROPS_COLOR) uniform vec3 u_color;
+layout(location = UNIFORM_PROPS_LIGHT) uniform vec3 u_light; // unit, towards the light
+layout(location = UNIFORM_PROPS_AMBIENT) uniform float u_ambient;
 layout(location = 0) out vec4 o_color;
 
 void main() {

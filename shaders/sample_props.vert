@@ -1,10 +1,11 @@
 #version 450 core
 // The samples' own opaque geometry (samples/common/sample_gl.cpp): boxes in world space.
+#include "sample_interface.glsl"
 
 layout(location = 0) in vec3 a_position; // unit cube corner, [-0.5, 0.5]^3
 layout(location = 1) in vec3 a_normal;
-layout(location = 0) uniform mat4 u_clip_from_local;
-layout(location = 1) uniform mat3 u_world_normal;
+layout(location = UNIFORM_PROPS_CLIP_FROM_LOCAL) uniform mat4 u_clip_from_local;
+layout(location = UNIFORM_PROPS_WORLD_NORMAL) uniform mat3 u_world_normal;
 
 layout(location = 0) out vec3 v_normal;
 
