@@ -114,6 +114,7 @@ struct ProjectorMemory {
     std::size_t mesh = 0;         // points, connectivity, cell offsets and words, stamps, transfer tables
     std::size_t cell_tables = 0;  // planes, scalar functions, barycentric rows, elements, a frame's pieces:
                                   // the exact paths' (pcp-exact, absorption-exact)
+    std::size_t barycentric_rows = 0; // of cell_tables: the rows (compact: only cells that are not planar)
     std::size_t unique_faces = 0; // mip's (made on first use)
 };
 
@@ -243,6 +244,9 @@ private:
     void flush_triangles() const;
     // prepare_draw's work; `view` null: no view to cull for.
     void build_tables(const Camera* view, double aspect);
+    // After the tables pass `program` decided the planar bits with compact rows: reads them
+    // back, gives each cell that is not planar its row pairs and runs the pass for the rows.
+    void lay_out_rows(GLuint program);
     gl::Texture& attach(gl::Texture& texture, GLenum format, GLuint buffer);
     std::size_t gpu_capacity_bytes() const;
     // The nearest and deepest corners of the mesh's bounds beyond the near plane of `view`
@@ -275,9 +279,19 @@ private:
 
     // Grown, never shrunk; planes and scalar functions have room after the mesh's triangles for
     // a frame's tetrahedra (upload_pieces).
-    gl::GrowingBuffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, elements_;
+    gl::GrowingBuffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, fold_bases_,
+        elements_;
     gl::Texture points_texture_, connectivity_texture_, cell_offsets_texture_, cell_words_texture_, planes_texture_,
-        scalar_fns_texture_, barycentrics_texture_;
+        scalar_fns_texture_, barycentrics_texture_, fold_bases_texture_;
+    // The barycentric rows' layout (meshes with cells other than tetrahedra): compact — only
+    // the cells that are not planar have rows, fold_bases_ says where — until the renderer's
+    // first in-place update, whose changed points may fold any cell the GPU rebuilds (the CPU
+    // would have to read the count back every update to size the rows): from then on, for this
+    // and every later mesh, by slot, as the planes (fold base = first triangle).
+    bool updated_in_place_ = false, compact_rows_ = true;
+    bool rows_laid_out_ = false;  // compact: fold_bases_ matches the planar bits (new scalars keep them)
+    std::size_t fold_rows_ = 0;   // compact: row pairs laid out
+    std::vector<std::uint32_t> laid_out_words_, fold_base_data_; // lay_out_rows' (kept)
     gl::VertexArray vertex_array_;
     gl::Buffer tables_buffer_;
     gl::Texture tables_;
