@@ -37,8 +37,13 @@
 //   planes            per face triangle: outward unit normal n, n·p
 //   scalar functions  per face triangle: (g, s0), the scalar on it is g·q + s0 (a
 //                     tetrahedron's: its own linear function, on every face)
-//   barycentrics      per face triangle, two rows: b1 = r1·q + r1w, b2 = r2·q + r2w (meshes
-//                     with cells other than tetrahedra: the exact paths' entry search)
+//   barycentrics      per face triangle of a cell that is not planar, two rows: b1 = r1·q + r1w,
+//                     b2 = r2·q + r2w (meshes with cells other than tetrahedra: the exact
+//                     paths' entry search), from row pair fold base + k on
+//   fold bases        per cell, where its rows start: compact (only cells that are not planar
+//                     have rows, in cell order; laid out by the CPU from the planar bits the
+//                     GPU decided, read back once per mesh) or, once the renderer has taken an
+//                     in-place update, by slot (fold base = first triangle), see the members
 //   except for planar cells (the planar bit of their word; gl_interface.hpp: kPlanarTolerance),
 //   whose fragments clip their ray by the faces' planes with no search: in the same slots their
 //   F faces' planes, then their Q quads' diagonal planes (which side of the diagonal is the
@@ -94,8 +99,9 @@ struct ProgramVariants {
 // The per-triangle tables and the element buffer of a mesh (gl_projector's "where the tables are
 // built"): in each cell's triangle slots its planes, scalar functions and (meshes with cells
 // other than tetrahedra) two barycentric rows per slot — a planar cell's laid out by face, any
-// other's by triangle — and per face triangle its three vertex ids cell·V + k; per cell its word
-// (gl_interface.hpp: cell_word, with the planar bit).
+// other's by triangle; a planar cell's rows zero (read_tables lays the GPU's rows out so,
+// whatever their layout there) — and per face triangle its three vertex ids cell·V + k; per
+// cell its word (gl_interface.hpp: cell_word, with the planar bit).
 struct ProjectorTables {
     std::vector<glm::vec4> planes, scalar_functions, barycentrics;
     std::vector<std::uint32_t> elements, words;
