@@ -599,7 +599,7 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
     for (const auto& [binding, buffer] : buffers) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
     glDispatchCompute(GLuint((mesh_.cell_count() + 63) / 64), 1, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
-                    GL_BUFFER_UPDATE_BARRIER_BIT);
+                    (layout == kTableLayoutDecide ? GL_BUFFER_UPDATE_BARRIER_BIT : 0u)); // lay_out_rows reads the words
     if (layout == kTableLayoutDecide) lay_out_rows(p);
     build_all_ = elements_all_ = false;
     built_stamp_ = stamp_;
