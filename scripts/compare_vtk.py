@@ -1,10 +1,12 @@
 #!/usr/bin/python3
-"""VTK 9.1's unstructured-grid volume mappers on the mesh, orbit, image size and transfer function
+"""VTK's unstructured-grid volume mappers on the mesh, orbit, image size and transfer function
 of a `cellfx bench render --json` run, timed the same way, printed beside cellfx's renderers.
 `compare_vtk.py --summary DIR...` prints the ratios of several compare_vtk.sh runs as one table.
 
 Run by scripts/compare_vtk.sh (which makes the JSON, the mesh file and the images it reads), under
-xvfb-run: VTK 9.1 on Debian needs an X display even for offscreen windows.
+xvfb-run (VTK on Debian needs an X display even for offscreen windows), with python3-vtk9's VTK 9.1
+(/usr/bin/python3) or python3-paraview's VTK 9.2 (pvpython); the version goes into the JSON and
+the tables.
 
 Renderers: vtkProjectedTetrahedraMapper (PT: Shirley-Tuchman projection, Wylie et al.'s GPU form,
 cells sorted by centroid depth), vtkUnstructuredGridVolumeZSweepMapper (ZSweep, CPU) and
@@ -22,12 +24,23 @@ o/u in vtkUnstructuredGridPartialPreIntegration), with colour c emitted in propo
 the colour is c(s), o(s) = sigma(s)*u, and u = 1/max(sigma) keeps o in [0, 1] for PT, which stores
 it in 8 bits.
 
+Memory: per mapper, the bytes it holds per mesh cell: what the process's heap holds in use
+(glibc's mallinfo2: arena and mmap'd blocks in use) after the warm-up frame less before it, so the
+mapper's own arrays and, on Mesa's llvmpipe (where GL buffers are the driver's heap), its GL
+buffers; the growth of resident memory over the same frame beside it. What does not grow with the
+mesh (the shaders llvmpipe compiles, the GL's first-use state) is paid before, by a mapper of the
+same class drawing the mesh's first tetrahedron alone in the same window. On a GPU the GL buffers sit
+in the GPU's memory and only the first figure's CPU part shows. The mesh cut into tetrahedra (the
+mappers' input, which ParaView keeps too) is reported apart (vtkDataObject::GetActualMemorySize).
+cellfx's bytes per cell are its GL buffers (bench render's memory table).
+
 Timing: per mapper one warm-up frame of view 0 (building the mapper's structures), then one frame
 per view: vtkRenderWindow.Render() and WaitForCompletion() (glFinish), wall time, median. With
 --seconds S a mapper stops after the first view that ends past S seconds of timed frames (ZSweep
 takes minutes per frame on a million tetrahedra); the table says over how many views it ran.
 """
 import argparse
+import ctypes
 import json
 import math
 import os
@@ -41,6 +54,29 @@ from vtk.util import numpy_support
 
 def log(text):
     print(text, flush=True)
+
+
+class _Mallinfo2(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_size_t) for name in
+                ("arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks", "uordblks", "fordblks",
+                 "keepcost")]
+
+
+def heap_in_use():
+    """Bytes the process's glibc heap holds in use (allocated chunks plus mmap'd blocks), or None."""
+    try:
+        mallinfo2 = ctypes.CDLL(None).mallinfo2
+    except (OSError, AttributeError):
+        return None
+    mallinfo2.restype = _Mallinfo2
+    info = mallinfo2()
+    return info.uordblks + info.hblkhd
+
+
+def resident():
+    """The process's resident memory in bytes (/proc/self/statm)."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
 
 
 def transfer_function(points):
@@ -134,12 +170,12 @@ def difference(a, b):
     return 100.0 * abs(a - b)[covered].mean() / peak
 
 
-def write_markdown(path, run, results, pt, zs):
+def write_markdown(path, run, results, pt, zs, vtk_note):
     """One row per renderer: the figures of both JSONs, ratios of cells/s against PT and ZSweep."""
     mesh = run["mesh"]
     types = ", ".join(f"{n:,} {t}" for t, n in mesh["cell_types"].items())
     lines = [f"{' + '.join(os.path.basename(f) for f in mesh['files'])}, field {mesh['field']}: {types}; "
-             f"{run['image']['width']}x{run['image']['height']}, {len(run['views'])} views",
+             f"{run['image']['width']}x{run['image']['height']}, {len(run['views'])} views; {vtk_note}",
              "",
              "| renderer | ms/frame | cells/s | × VTK PT | × ZSweep | CPU ms | GPU ms | bytes/cell | check (worst mean, % of peak) | views |",
              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: |"]
@@ -156,7 +192,8 @@ def write_markdown(path, run, results, pt, zs):
                      f"{num(r['gpu_ms'])} | {r['bytes_per_cell']:.0f} | {verdict} | {len(r['ms'])} |")
     for r in results:
         lines.append(f"| {r['name']} | {r['median_ms']:.0f} | {r['cells_per_second']:.3g} | "
-                     f"{ratio(r['cells_per_second'], pt)} | {ratio(r['cells_per_second'], zs)} | — | — | — | "
+                     f"{ratio(r['cells_per_second'], pt)} | {ratio(r['cells_per_second'], zs)} | — | — | "
+                     f"{num(r['bytes_per_cell'])} | "
                      f"{r['mean_difference_percent_vs_scanline']:.2f}% vs scan-line, view 0 | {len(r['ms'])} |")
     with open(path, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")
@@ -198,6 +235,7 @@ def main():
     parser.add_argument("--renderers", default="vtk-pt,vtk-zsweep,vtk-bunyk")
     parser.add_argument("--out-json", help="write VTK's figures here")
     parser.add_argument("--markdown", help="write the side-by-side table here as Markdown")
+    parser.add_argument("--vtk-from", default="", help="where this VTK comes from, for the record (compare_vtk.sh)")
     parser.add_argument("--seconds", type=float, default=0.0,
                         help="per mapper, stop timing views once this many seconds are spent (0: all views)")
     args = parser.parse_args()
@@ -216,7 +254,12 @@ def main():
     prop.SetScalarOpacityUnitDistance(unit)
     prop.SetInterpolationTypeToLinear()
     prop.ShadeOff()
-    log(f"vtk {vtk.vtkVersion.GetVTKVersion()}: {grid.GetNumberOfCells()} tetrahedra for the mesh's {cells} cells; "
+    version = vtk.vtkVersion.GetVTKVersion()
+    input_bytes = 1024 * grid.GetActualMemorySize()
+    vtk_note = f"VTK {version}" + (f" from {args.vtk_from}" if args.vtk_from else "") + \
+        f", its input (the mesh in tetrahedra) {input_bytes / cells:.0f} B/cell"
+    log(f"vtk {version}{' from ' + args.vtk_from if args.vtk_from else ''}, python {sys.version.split()[0]}: "
+        f"{grid.GetNumberOfCells()} tetrahedra for the mesh's {cells} cells ({input_bytes / cells:.0f} B/cell); "
         f"ScalarOpacityUnitDistance {unit:.6g}")
 
     window = vtk.vtkRenderWindow()
@@ -247,7 +290,28 @@ def main():
             window.WaitForCompletion()
             return 1e3 * (time.perf_counter() - start)
 
+        # The fixed costs first (Memory, above): the first tetrahedron alone, through the same class.
+        renderer.RemoveVolume(volume)
+        one = vtk.vtkUnstructuredGrid()
+        one.Allocate(1)
+        ids = vtk.vtkIdList()
+        grid.GetCellPoints(0, ids)
+        one.SetPoints(grid.GetPoints())
+        one.InsertNextCell(grid.GetCellType(0), ids)
+        one.GetPointData().SetScalars(grid.GetPointData().GetScalars())
+        small = vtk.vtkVolume()
+        small.SetMapper(make_mapper(name, one))
+        small.SetProperty(prop)
+        renderer.AddVolume(small)
+        frame(views[0])
+        renderer.RemoveVolume(small)
+        renderer.AddVolume(volume)
+
+        heap_before, resident_before = heap_in_use(), resident()
         first = frame(views[0])
+        heap_after, resident_after = heap_in_use(), resident()
+        held = None if heap_before is None else (heap_after - heap_before) / cells
+        grown = (resident_after - resident_before) / cells
         times = []
         for v in views:
             times.append(frame(v))
@@ -268,29 +332,36 @@ def main():
         ms = statistics.median(times)
         diff = difference(png_pixels(png), png_pixels(reference)) if os.path.exists(reference) else float("nan")
         results.append({"name": name, "ms": times, "median_ms": ms, "cells_per_second": cells / (ms * 1e-3),
-                        "first_frame_ms": first, "mean_difference_percent_vs_scanline": diff})
+                        "first_frame_ms": first, "mean_difference_percent_vs_scanline": diff,
+                        "bytes_per_cell": held, "resident_growth_bytes_per_cell": grown})
         log(f"  {name:<12} {ms:10.2f} ms/frame  {cells / (ms * 1e-3):12.4g} cells/s  first {first:.0f} ms  "
-            f"{len(times)} of {len(views)} views; view 0 vs cellfx scan-line: mean |diff| {diff:.2f}% of peak")
+            f"{len(times)} of {len(views)} views; view 0 vs cellfx scan-line: mean |diff| {diff:.2f}% of peak; "
+            f"holds {'?' if held is None else f'{held:.0f}'} B/cell (heap after its first frame), "
+            f"resident +{grown:.0f} B/cell")
 
     if args.out_json:
         with open(args.out_json, "w") as f:
-            json.dump({"vtk": vtk.vtkVersion.GetVTKVersion(), "unit_distance": unit, "renderers": results}, f, indent=2)
+            json.dump({"vtk": version, "vtk_from": args.vtk_from, "python": sys.version.split()[0],
+                       "input_bytes_per_cell": input_bytes / cells, "unit_distance": unit, "renderers": results},
+                      f, indent=2)
 
     # Everything side by side: cellfx's renderers, then VTK's, with ratios of cells/s.
     by_name = {r["name"]: r for r in results}
-    rows = [(r["name"], r["median_ms"], r["cells_per_second"], len(r["ms"])) for r in run["renderers"]]
-    rows += [(r["name"], r["median_ms"], r["cells_per_second"], len(r["ms"])) for r in results]
+    rows = [(r["name"], r["median_ms"], r["cells_per_second"], len(r["ms"]), r["bytes_per_cell"]) for r in run["renderers"]]
+    rows += [(r["name"], r["median_ms"], r["cells_per_second"], len(r["ms"]), r["bytes_per_cell"]) for r in results]
     pt = by_name.get("vtk-pt", {}).get("cells_per_second")
     zs = by_name.get("vtk-zsweep", {}).get("cells_per_second")
     print()
     print(f"{run['mesh']['files'][0]}: {cells} cells {run['mesh']['cell_types']}, {width}x{height}, "
-          f"{len(views)} views; cells/s against the mesh's own cells")
-    print(f"  {'renderer':<30} {'ms/frame':>10} {'cells/s':>12} {'x VTK PT':>9} {'x ZSweep':>9} {'views':>6}")
-    for name, ms, cps, timed in rows:
+          f"{len(views)} views; cells/s against the mesh's own cells; {vtk_note}")
+    print(f"  {'renderer':<30} {'ms/frame':>10} {'cells/s':>12} {'x VTK PT':>9} {'x ZSweep':>9} {'views':>6} {'B/cell':>7}")
+    for name, ms, cps, timed, per_cell in rows:
         ratio = lambda ref: f"{cps / ref:9.2f}" if ref else f"{'-':>9}"
-        print(f"  {name:<30} {ms:10.2f} {cps:12.4g} {ratio(pt)} {ratio(zs)} {timed:6d}")
+        held = f"{per_cell:7.0f}" if per_cell is not None else f"{'-':>7}"
+        print(f"  {name:<30} {ms:10.2f} {cps:12.4g} {ratio(pt)} {ratio(zs)} {timed:6d} {held}")
+    print("  B/cell: cellfx's GL buffers (bench render); VTK's, its heap's growth over the mapper's first frame")
     if args.markdown:
-        write_markdown(args.markdown, run, results, pt, zs)
+        write_markdown(args.markdown, run, results, pt, zs, vtk_note)
     failed = [r["name"] for r in run["renderers"] if not r.get("check", {}).get("passed", True)]
     if failed:
         print("  cellfx frames outside their tolerance: " + ", ".join(failed))

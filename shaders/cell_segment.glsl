@@ -17,7 +17,8 @@
 // on one pixel, each of which must count its own part only). So there the exit is the
 // back-facing crossing nearest the fragment's own depth, and the entry the last front-facing
 // crossing before it (or, by rounding, just after it: then there is no segment); each must lie
-// in its triangle (barycentric rows, UNIT_BARYCENTRICS), else the other half of its quad is
+// in its triangle (barycentric rows, UNIT_BARYCENTRICS: triangle k's row pair v_fold + k, only
+// such cells have rows), else the other half of its quad is
 // tried, else every triangle facing the ray that way (one containing its crossing beats one
 // that does not). A batch of fragments (of one triangle, so of one cell) takes one road or the
 // other, so a mesh pays the search only for its folded cells.
@@ -30,6 +31,9 @@
 // interpolated to each cut.
 
 layout(location = 0) flat in uint v_word;
+#if VERTICES_PER_CELL != 4
+layout(location = 1) flat in uint v_fold; // the cell's first barycentric row pair (cells.vert)
+#endif
 layout(binding = UNIT_PLANES) uniform samplerBuffer u_planes;                     // outward unit normal, n·p
 layout(binding = UNIT_SCALAR_FUNCTIONS) uniform samplerBuffer u_scalar_functions; // g, s0
 layout(binding = UNIT_BARYCENTRICS) uniform samplerBuffer u_barycentrics;         // 2 rows per triangle
@@ -45,8 +49,9 @@ struct CellSegment {
     float t_in;        // ray parameter where it starts (t_in + length: where it ends)
 };
 
-bool contains(int triangle, vec3 q) {
-    vec4 r1 = texelFetch(u_barycentrics, 2 * triangle), r2 = texelFetch(u_barycentrics, 2 * triangle + 1);
+// Whether q lies in the triangle of row pair `rows`.
+bool contains(int rows, vec3 q) {
+    vec4 r1 = texelFetch(u_barycentrics, 2 * rows), r2 = texelFetch(u_barycentrics, 2 * rows + 1);
     float b1 = dot(r1.xyz, q) + r1.w, b2 = dot(r2.xyz, q) + r2.w;
     return min(1.0 - b1 - b2, min(b1, b2)) >= kInside;
 }
@@ -63,12 +68,13 @@ bool crossing(int triangle, float side, Ray ray, out float t) {
 // Makes (k, t), the winner by planes alone, a crossing that lies in its triangle, among the
 // cell's triangles facing the ray the `side` way: an entry (side −1) the last one before `limit`
 // (the exit), an exit (side +1) the one nearest `limit` (the fragment's own depth). False if
-// none does (the ray misses the cell).
-bool resolve_crossing(int first, int triangles, float side, Ray ray, float limit, inout int k, inout float t) {
-    if (contains(first + k, ray.origin + ray.dir * t)) return true;
+// none does (the ray misses the cell). The cell's triangle k has plane first + k, row pair
+// fold + k.
+bool resolve_crossing(int first, int fold, int triangles, float side, Ray ray, float limit, inout int k, inout float t) {
+    if (contains(fold + k, ray.origin + ray.dir * t)) return true;
     float t_other;
     if (quad_half(triangles, k) && crossing(first + (k ^ 1), side, ray, t_other) &&
-        contains(first + (k ^ 1), ray.origin + ray.dir * t_other)) {
+        contains(fold + (k ^ 1), ray.origin + ray.dir * t_other)) {
         k ^= 1, t = t_other;
         return true;
     }
@@ -77,7 +83,7 @@ bool resolve_crossing(int first, int triangles, float side, Ray ray, float limit
     for (int j = 0; j < triangles; ++j) {
         float tj;
         if (!crossing(first + j, side, ray, tj) || (side < 0.0 && tj > limit)) continue;
-        bool inside = contains(first + j, ray.origin + ray.dir * tj);
+        bool inside = contains(fold + j, ray.origin + ray.dir * tj);
         bool better = side < 0.0 ? tj > best_t : abs(tj - limit) < abs(best_t - limit);
         if ((inside && !best_inside) || (inside == best_inside && better)) best_inside = inside, best_t = tj, k = j;
     }
@@ -187,14 +193,15 @@ CellSegment folded_cell_segment(Ray ray, int first, int triangles) {
         fronts[k] = den < -kGrazing ? t : -3.4e38;
         if (den > kGrazing && abs(t - t_own) < abs(t_back - t_own)) t_back = t, back = k;
     }
-    if (back >= 0) resolve_crossing(first, triangles, 1.0, ray, t_own, back, t_back);
+    int fold = int(v_fold);
+    if (back >= 0) resolve_crossing(first, fold, triangles, 1.0, ray, t_own, back, t_back);
     // The last entry before the exit (one beyond it by no more than rounding still counts: a
     // ray that grazes the cell's edge), and it must lie in its triangle: a ray that misses the
     // cell by rounding crosses planes before the exit too, outside their triangles.
     float limit = t_back + 1e-5 * abs(t_back);
     for (int k = 0; k < triangles; ++k)
         if (fronts[k] > t_front && fronts[k] <= limit) t_front = fronts[k], front = k;
-    if (front >= 0 && !resolve_crossing(first, triangles, -1.0, ray, limit, front, t_front)) front = -1;
+    if (front >= 0 && !resolve_crossing(first, fold, triangles, -1.0, ray, limit, front, t_front)) front = -1;
     if (front < 0 || back < 0 || !(t_back > t_front)) { // degenerate, or missed by rounding
         CellSegment none;
         none.s_in = none.s_out = none.length = none.t_in = 0.0;

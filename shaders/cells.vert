@@ -8,7 +8,9 @@
 //               PIECE_BIT_INDEX set, a tetrahedron made for the frame (UNIT_PIECE_POINTS)
 //   CLASSIC     classic PCP: per vertex α = (d − d_min)/Δd and κ(S)·Δd/2 from the slot's
 //               (d_min, Δd) (UNIT_SLOT_DATA)
-// The cell's word goes to the fragment shader as one flat integer.
+// The cell's word goes to the fragment shader as one flat integer, and with cells other than
+// tetrahedra the first of its barycentric row pairs (UNIT_FOLD_BASES: read by cells that are
+// not planar only) as another.
 #include "project.glsl"
 
 layout(binding = UNIT_POINTS) uniform samplerBuffer u_points;
@@ -22,6 +24,10 @@ layout(location = UNIFORM_PIECE_BASE) uniform uint u_piece_base;
 #endif
 
 layout(location = 0) flat out uint v_word;
+#if VERTICES_PER_CELL == 8
+layout(binding = UNIT_FOLD_BASES) uniform usamplerBuffer u_fold_bases;
+layout(location = 1) flat out uint v_fold;
+#endif
 #ifdef CLASSIC
 layout(binding = UNIT_SLOT_DATA) uniform samplerBuffer u_slot_ranges; // d_min, Δd
 layout(location = 3) out float v_alpha;     // (d − d_min)/Δd
@@ -31,7 +37,7 @@ layout(location = 5) flat out vec2 v_range; // d_min, Δd (scene-depth clamp)
 
 void main() {
     int slot = gl_VertexID / VERTICES_PER_CELL, k = gl_VertexID - slot * VERTICES_PER_CELL;
-    uint cell = uint(slot), point, word;
+    uint cell = uint(slot), point, word, fold = 0u;
 #ifdef CELL_LIST
     cell = texelFetch(u_cell_list, slot).x;
     if ((cell & (1u << PIECE_BIT_INDEX)) != 0u) {
@@ -43,10 +49,16 @@ void main() {
     {
         point = texelFetch(u_connectivity, int(texelFetch(u_cell_offsets, int(cell)).x) + k).x;
         word = texelFetch(u_cell_words, int(cell)).x;
+#if VERTICES_PER_CELL == 8
+        fold = texelFetch(u_fold_bases, int(cell)).x;
+#endif
     }
     vec4 p = texelFetch(u_points, int(point));
     gl_Position = u_view_projection * vec4(p.xyz, 1.0);
     v_word = word;
+#if VERTICES_PER_CELL == 8
+    v_fold = fold;
+#endif
 #ifdef CLASSIC
     vec2 range = texelFetch(u_slot_ranges, slot).xy;
     float d = near_plane_distance(p.xyz);

@@ -13,6 +13,15 @@
 //             has them, its barycentric rows; its word with the planar bit. The same formulas as
 //             the CPU's (gl_projector.cpp, build_projector_tables), in double on the same float
 //             positions, rounded to float;
+//   rows      (meshes with cells other than tetrahedra) a cell that is not planar has its two
+//             barycentric rows per triangle from row pair fold_bases[c]: by UNIFORM_TABLE_LAYOUT,
+//             TABLE_LAYOUT_FULL: every cell's at its own slots (fold base = its first triangle,
+//             written here; a planar cell's zero), the bits decided here (a renderer that takes
+//             in-place updates); the compact layouts, where only cells that are not planar have
+//             rows, packed in the order of the cells: TABLE_LAYOUT_DECIDE: the bits decided, no
+//             rows (the CPU reads the bits back and lays the rows out), then
+//             TABLE_LAYOUT_ROWS_ONLY: the rows alone at the CPU's fold bases, the bits kept;
+//             TABLE_LAYOUT_KEPT: everything with the bits and fold bases kept (new scalars);
 //   elements  (UNIFORM_TABLE_ELEMENTS, or a cell whose tables were rebuilt) the cell's triangles
 //             as vertex ids cell·VERTICES_PER_CELL + k; with UNIFORM_TABLE_CULL a cell whose box
 //             lies wholly outside one of the view's side or near planes gets three copies of its
@@ -32,6 +41,7 @@ layout(std430, binding = BINDING_ELEMENTS_OUT) writeonly buffer Elements { uint 
 layout(std430, binding = BINDING_POINT_STAMPS) readonly buffer PointStamps { uint point_stamps[]; };
 layout(std430, binding = BINDING_CELL_STAMPS) readonly buffer CellStamps { uint cell_stamps[]; };
 layout(std430, binding = BINDING_CELL_WORDS_OUT) buffer CellWords { uint cell_words[]; };
+layout(std430, binding = BINDING_FOLD_BASES_OUT) buffer FoldBases { uint fold_bases[]; };
 
 layout(location = UNIFORM_TABLE_CELLS) uniform uint u_cells;
 layout(location = UNIFORM_TABLE_BUILT) uniform uint u_built;
@@ -40,6 +50,7 @@ layout(location = UNIFORM_TABLE_ELEMENTS) uniform int u_elements;
 layout(location = UNIFORM_TABLE_CULL) uniform int u_cull;
 layout(location = UNIFORM_TABLE_CULL_PLANES) uniform vec4 u_cull_planes[5];
 layout(location = UNIFORM_TABLE_PLANAR_TOLERANCE) uniform double u_planar_tolerance; // kPlanarTolerance
+layout(location = UNIFORM_TABLE_LAYOUT) uniform int u_layout;
 
 const uint V = uint(VERTICES_PER_CELL);
 
@@ -72,6 +83,7 @@ vec4 tetrahedron_function(dvec3 p[8], double s[8]) {
     return vec4(vec3(g), float(s[0] - dot(g, p[0])));
 }
 
+// Row pair t (rows 2t, 2t + 1).
 void barycentric_rows(dvec3 a, dvec3 b, dvec3 c, uint t) {
     dvec3 e1 = b - a, e2 = c - a;
     double e11 = dot(e1, e1), e12 = dot(e1, e2), e22 = dot(e2, e2);
@@ -158,9 +170,17 @@ void main() {
     double s[8];
     for (uint k = 0u; k < n; ++k) p[k] = dvec3(q[k].xyz), s[k] = double(q[k].w);
     // Tetrahedra-only meshes keep the triangle layout (the same for a tetrahedron) and no bit.
-    bool planar = V == 8u && changed && planar_cell(p, n, type);
-    vec4 tet = type == 0 && changed ? tetrahedron_function(p, s) : vec4(0.0);
-    if (V == 8u && changed) cell_words[c] = planar ? word | (1u << uint(WORD_PLANAR_BIT)) : word & ~(1u << uint(WORD_PLANAR_BIT));
+    bool decide = u_layout == TABLE_LAYOUT_FULL || u_layout == TABLE_LAYOUT_DECIDE;
+    bool full = u_layout == TABLE_LAYOUT_FULL, rows_only = u_layout == TABLE_LAYOUT_ROWS_ONLY;
+    bool planar = V == 8u && changed && (decide ? planar_cell(p, n, type) : (word & (1u << uint(WORD_PLANAR_BIT))) != 0u);
+    vec4 tet = type == 0 && changed && !rows_only ? tetrahedron_function(p, s) : vec4(0.0);
+    if (V == 8u && changed && decide)
+        cell_words[c] = planar ? word | (1u << uint(WORD_PLANAR_BIT)) : word & ~(1u << uint(WORD_PLANAR_BIT));
+    if (V == 8u && changed && full) fold_bases[c] = first;
+    // Where its row pairs go: triangle t's at fold + (t − first); none in TABLE_LAYOUT_DECIDE.
+    bool rows = V == 8u && changed && u_layout != TABLE_LAYOUT_DECIDE;
+    uint fold = full || !rows || planar ? first : fold_bases[c];
+    if (rows_only && (planar || !changed)) return;
 
     uint t = first;
     int face0 = kCellFaceFirst[type], faces = kCellFaceCount[type];
@@ -171,7 +191,7 @@ void main() {
         if (halves == 2)
             for (int i = 1; i < 4; ++i)
                 if (ids[face[i]] < ids[face[k0]]) k0 = i;
-        if (planar) {
+        if (planar && !rows_only) {
             // Face f's plane and first half's function in slot f, a quad's diagonal plane and
             // second half's function in slot F + (its index among the quads).
             uint slot = first + uint(f), second = first + uint(faces + kFaceQuad[face0 + f]);
@@ -195,24 +215,27 @@ void main() {
                 double area1 = length(cross(b - a, cc - a)), area2 = length(cross(cc - a, d - a));
                 functions[slot] = area1 < 1e-6lf * area2 ? f2 : f1;
                 functions[second] = area2 < 1e-6lf * area1 ? f1 : f2;
-                barycentrics[2u * second] = barycentrics[2u * second + 1u] = vec4(0.0);
+                if (full) barycentrics[2u * second] = barycentrics[2u * second + 1u] = vec4(0.0);
             } else {
                 functions[slot] = type == 0 ? tet : triangle_function(p[face.x], s[face.x], p[face.y], s[face.y], p[face.z], s[face.z]);
             }
-            barycentrics[2u * slot] = barycentrics[2u * slot + 1u] = vec4(0.0);
+            if (full) barycentrics[2u * slot] = barycentrics[2u * slot + 1u] = vec4(0.0);
         }
         for (int h = 0; h < halves; ++h, ++t) {
             ivec3 tri = halves == 1 ? face.xyz : ivec3(face[k0], face[(k0 + 1 + h) % 4], face[(k0 + 2 + h) % 4]);
             if (changed && !planar) {
                 dvec3 a = p[tri.x], b = p[tri.y], cc = p[tri.z];
-                planes[t] = triangle_plane(a, b, cc);
-                functions[t] = type == 0 ? tet : triangle_function(a, s[tri.x], b, s[tri.y], cc, s[tri.z]);
-                if (V == 8u) {
-                    if (type == 0) barycentrics[2u * t] = barycentrics[2u * t + 1u] = vec4(0.0);
-                    else barycentric_rows(a, b, cc, t);
+                if (!rows_only) {
+                    planes[t] = triangle_plane(a, b, cc);
+                    functions[t] = type == 0 ? tet : triangle_function(a, s[tri.x], b, s[tri.y], cc, s[tri.z]);
+                }
+                if (rows) {
+                    uint r = fold + (t - first);
+                    if (type == 0) barycentrics[2u * r] = barycentrics[2u * r + 1u] = vec4(0.0);
+                    else barycentric_rows(a, b, cc, r);
                 }
             }
-            write_elements(t, visible ? uvec3(c * V) + uvec3(tri) : uvec3(c * V));
+            if (!rows_only) write_elements(t, visible ? uvec3(c * V) + uvec3(tri) : uvec3(c * V));
         }
     }
 }

@@ -111,3 +111,46 @@ TEST_CASE("planar and folded cells: either fragment road, the same picture, the 
         }
     }
 }
+
+TEST_CASE("planar cells turning folded and back in place draw what a renderer made for the mesh draws", "[gl][pcp][planar]") {
+    fx_test::gl_context();
+    const fx::CellMesh original = fx_test::planar_and_folded_grid();
+    // The regular box's inner node (2, 2, 1) moved off its lattice: its 8 hexahedra fold.
+    const std::uint32_t moved = 37;
+    REQUIRE(original.points[moved] == glm::dvec3(0.5, 0.5, 0.25));
+    fx::CellMesh bent = original;
+    bent.points[moved] += glm::dvec3(0.04, -0.03, 0.05);
+    bent.scalars[0].values[moved] += 0.2f;
+    const fx::TransferFunction tf = glow(1.5);
+    const View view = views()[0];
+    const int size = 96;
+    fx::MeshChanges changes;
+    changes.clear(); // in place: only `moved` changed
+    changes.points = {moved};
+    for (const fx::RenderPath path : {fx::RenderPath::PcpExact, fx::RenderPath::AbsorptionExact}) {
+        fx::CellRenderOptions options;
+        options.sort = fx::SortMethod::Xmpvo;
+        fx::CellRenderer updated(original, "s", tf); // its rows compact, then by slot after the update
+        updated.render_to_image(view.camera, size, size, path, options);
+        int step = 0;
+        for (const fx::CellMesh* m : {static_cast<const fx::CellMesh*>(&bent), &original}) {
+            const std::string name = std::string("planar_in_place_") + fx::render_path_name(path) + "_" + std::to_string(step++);
+            INFO(name);
+            REQUIRE(updated.update_mesh(*m, "s", changes));
+            const fx::Image in_place = updated.render_to_image(view.camera, size, size, path, options);
+            fx::CellRenderer fresh(*m, "s", tf); // compact rows
+            const fx::Image made = fresh.render_to_image(view.camera, size, size, path, options);
+            fx_test::require_no_gl_error();
+            fx::ScanlineOptions so;
+            so.model = path == fx::RenderPath::PcpExact ? fx::OpticalModel::Emission : fx::OpticalModel::EmissionAbsorption;
+            const fx::Image reference = fx::ScanlineRenderer(*m).render(view.camera, size, size, *m->find_scalar("s"), tf, so);
+            const verify::Tolerance stated = verify::stated(verify::path_of(path), verify::Case{});
+            fx_test::check_frame(name, in_place, reference, stated);
+            fx_test::check_frame(name + "_fresh", made, reference, stated);
+            verify::Tolerance same;
+            same.pixel.of_peak = 1e-6, same.share_beyond = 0.0, same.mean.of_peak = 1e-7;
+            same.why = "the same tables, the rows at other places: the same arithmetic per fragment";
+            fx_test::check_frame(name + "_vs_fresh", in_place, made, same);
+        }
+    }
+}

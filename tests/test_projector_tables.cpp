@@ -227,3 +227,60 @@ TEST_CASE("in-place mesh updates rebuild exactly the tables a new mesh would hav
     CHECK_FALSE(projector.update_mesh(mesh, "s", changes));
     check_tables(projector);
 }
+
+TEST_CASE("barycentric rows only for cells that are not planar, by slot once the renderer is updated in place",
+          "[gl][projector]") {
+    fx_test::gl_context();
+    fx::CellMesh mesh = fx_test::planar_and_folded_grid();
+    const fx::CellMesh original = mesh;
+    // The regular box's inner node (2, 2, 1) moved off its lattice: its 8 hexahedra fold.
+    const std::uint32_t moved = 37;
+    REQUIRE(mesh.points[moved] == glm::dvec3(0.5, 0.5, 0.25));
+    fx::CellMesh bent = mesh;
+    bent.points[moved] += glm::dvec3(0.04, -0.03, 0.05);
+    bent.scalars[0].values[moved] += 0.2f;
+
+    const auto folded_triangles = [](const fx::ProjectorTables& t) {
+        std::size_t n = 0;
+        for (std::uint32_t w : t.words)
+            if (!(w & fx::kWordPlanar)) n += (w & ((1u << fx::kWordCountBits) - 1u)) + 1u;
+        return n;
+    };
+    fx::GlProjector projector(mesh, "s", ramp());
+    // A new mesh: the 48 folded hexahedra's and 14 folded wedges' rows, 32 bytes a triangle.
+    const TableCounts counts = check_tables(projector);
+    CHECK(counts.folded == 48 + 14);
+    const std::size_t folded = folded_triangles(projector.read_tables());
+    CHECK(folded == 48 * 12 + 14 * 8);
+    CHECK(projector.memory().barycentric_rows == 32 * folded);
+    // New scalars keep the layout; a new tolerance lays the rows out again.
+    std::vector<float> values = mesh.scalars[0].values;
+    for (float& v : values) v = 1.0f - v;
+    projector.set_scalars(values);
+    check_tables(projector);
+    CHECK(projector.memory().barycentric_rows == 32 * folded);
+    projector.set_planar_tolerance(1e-5); // the bent block's 36 fold too
+    CHECK(check_tables(projector).folded == 48 + 14 + 36);
+    CHECK(projector.memory().barycentric_rows == 32 * folded_triangles(projector.read_tables()));
+    projector.set_planar_tolerance(fx::kPlanarTolerance);
+    projector.set_scalars(mesh.scalars[0].values);
+
+    // In place: the moved node folds 8 planar hexahedra, then unfolds them. The rows go by slot,
+    // and the tables are a new mesh's (check_tables: the CPU's build from scratch).
+    fx::MeshChanges changes;
+    changes.clear(); // in place: only `moved` changed
+    changes.points = {moved};
+    CHECK(projector.update_mesh(bent, "s", changes));
+    CHECK(check_tables(projector).folded == 48 + 14 + 8);
+    CHECK(projector.memory().barycentric_rows >= 32 * projector.cell_first_triangle().back());
+    {
+        fx::GlProjector fresh(bent, "s", ramp());
+        CHECK(fresh.read_tables().words == projector.read_tables().words);
+    }
+    CHECK(projector.update_mesh(original, "s", changes));
+    CHECK(check_tables(projector).folded == 48 + 14);
+    // A mesh taken whole afterwards keeps the layout by slot (the renderer takes updates).
+    projector.set_mesh(bent, "s");
+    CHECK(check_tables(projector).folded == 48 + 14 + 8);
+    CHECK(projector.memory().barycentric_rows >= 32 * projector.cell_first_triangle().back());
+}

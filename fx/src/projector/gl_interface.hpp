@@ -32,6 +32,7 @@ namespace cellfx::fx {
     X(kBindingPointStamps, BINDING_POINT_STAMPS, 8) /* per point: the update that last changed it */ \
     X(kBindingCellStamps, BINDING_CELL_STAMPS, 9)   /* per cell: the same for its connectivity */ \
     X(kBindingCellWordsOut, BINDING_CELL_WORDS_OUT, 10) /* per cell: its word, planar bit set */   \
+    X(kBindingFoldBasesOut, BINDING_FOLD_BASES_OUT, 11) /* per cell: its first row pair */        \
     /* texture units (within those gl::StateGuard saves) */                                        \
     X(kUnitTables, UNIT_TABLES, 0)              /* transfer-function tables */                     \
     X(kUnitAccumulation, UNIT_ACCUMULATION, 0)  /* resolve: the pass's target */                   \
@@ -49,7 +50,8 @@ namespace cellfx::fx {
     X(kUnitSlotData, UNIT_SLOT_DATA, 12)        /* a frame's list: per slot (d_min, Δd) */         \
     X(kUnitPiecePoints, UNIT_PIECE_POINTS, 13)  /* a frame's tetrahedra: 4 point ids each */       \
     X(kUnitUniqueFaces, UNIT_UNIQUE_FACES, 14)  /* mip: each face once, 3 point ids */             \
-    X(kUnitCount, UNIT_COUNT, 15)               /* (units in use) */                               \
+    X(kUnitFoldBases, UNIT_FOLD_BASES, 15)      /* per cell: its first barycentric row pair */     \
+    X(kUnitCount, UNIT_COUNT, 16)               /* (units in use) */                               \
     /* uniform locations */                                                                        \
     X(kUniformViewProjection, UNIFORM_VIEW_PROJECTION, 0)                                          \
     X(kUniformEye, UNIFORM_EYE, 1)                                                                 \
@@ -83,6 +85,11 @@ namespace cellfx::fx {
     X(kUniformTableCull, UNIFORM_TABLE_CULL, 54)       /* 1: cells outside the planes collapse */  \
     X(kUniformTableCullPlanes, UNIFORM_TABLE_CULL_PLANES, 55) /* 5 planes (55–59), relative frame */ \
     X(kUniformTablePlanarTolerance, UNIFORM_TABLE_PLANAR_TOLERANCE, 60) /* double: kPlanarTolerance */ \
+    X(kUniformTableLayout, UNIFORM_TABLE_LAYOUT, 61)   /* the rows' layout and the pass's part: */ \
+    X(kTableLayoutFull, TABLE_LAYOUT_FULL, 0)          /*   rows per slot, planar bits decided */ \
+    X(kTableLayoutDecide, TABLE_LAYOUT_DECIDE, 1)      /*   compact: bits decided, no rows */     \
+    X(kTableLayoutKept, TABLE_LAYOUT_KEPT, 2)          /*   compact: bits kept, rows written */   \
+    X(kTableLayoutRowsOnly, TABLE_LAYOUT_ROWS_ONLY, 3) /*   compact: bits kept, rows alone */     \
     /* the one medium (fx/internal/medium): its sizes, then its uniforms, clear of the above so */ \
     /* that its append and emission passes, which are projector programs too, may use both. */    \
     /* An array uniform takes as many locations as it has elements (static_asserts below). */    \

@@ -217,9 +217,21 @@ ProjectorTables GlProjector::read_tables() {
     glGetNamedBufferSubData(elements_.id(), 0, GLsizeiptr(nt * 12), t.elements.data());
     t.words.resize(mesh_.cell_count());
     glGetNamedBufferSubData(cell_words_.id(), 0, GLsizeiptr(t.words.size() * 4), t.words.data());
-    if (!all_tetrahedra()) {
+    if (!all_tetrahedra() && !compact_rows_) {
         t.barycentrics.resize(2 * nt);
         glGetNamedBufferSubData(barycentrics_.id(), 0, GLsizeiptr(nt * 32), t.barycentrics.data());
+    } else if (!all_tetrahedra()) {
+        // Laid out by triangle slot as the CPU's build has them: a planar cell's zero.
+        t.barycentrics.assign(2 * nt, glm::vec4(0.0f));
+        std::vector<std::uint32_t> bases(t.words.size());
+        std::vector<glm::vec4> rows(2 * fold_rows_);
+        glGetNamedBufferSubData(fold_bases_.id(), 0, GLsizeiptr(bases.size() * 4), bases.data());
+        glGetNamedBufferSubData(barycentrics_.id(), 0, GLsizeiptr(rows.size() * 16), rows.data());
+        for (std::size_t c = 0; c < t.words.size(); ++c) {
+            if (t.words[c] & kWordPlanar) continue;
+            const std::uint32_t first = geometry_.cell_first_triangle[c], n = geometry_.cell_first_triangle[c + 1] - first;
+            std::copy_n(rows.begin() + 2 * std::ptrdiff_t(bases[c]), 2 * n, t.barycentrics.begin() + 2 * std::ptrdiff_t(first));
+        }
     }
     FX_GL_CHECK("read tables");
     return t;
@@ -322,6 +334,8 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
     const std::size_t old_np = mesh_.point_count(), old_nc = mesh_.cell_count();
     const std::size_t np = source.point_count(), nc = source.cell_count();
     ++stamp_;
+    // From now on the barycentric rows are laid out by slot (reserve_tables, build_tables).
+    updated_in_place_ = true;
     // Points: the CPU's copy (mesh, positions relative to the kept origin, scalars) and the list
     // of changed values for the GPU.
     mesh_.points.resize(np);
@@ -466,8 +480,11 @@ void GlProjector::reserve_tables(bool keep) {
     if (tables_reserved_) {
         if (planes_.reserve(table, kept(planes_))) attach(planes_texture_, GL_RGBA32F, planes_.id());
         if (scalar_fns_.reserve(table, kept(scalar_fns_))) attach(scalar_fns_texture_, GL_RGBA32F, scalar_fns_.id());
-        if (barycentrics_.reserve(all_tetrahedra() ? 16 : 2 * table, kept(barycentrics_)))
+        // The rows: by slot (a renderer updated in place), else as many as build_tables lays out.
+        if (barycentrics_.reserve(all_tetrahedra() || !updated_in_place_ ? 16 : 2 * table, kept(barycentrics_)))
             attach(barycentrics_texture_, GL_RGBA32F, barycentrics_.id());
+        if (fold_bases_.reserve(all_tetrahedra() ? 16 : nc * 4, kept(fold_bases_)))
+            attach(fold_bases_texture_, GL_R32UI, fold_bases_.id());
         if (elements_.reserve(3 * nt * 4, kept(elements_)) && vertex_array_)
             glVertexArrayElementBuffer(vertex_array_.id(), elements_.id());
     }
@@ -489,6 +506,7 @@ void GlProjector::set_planar_tolerance(double tolerance) {
     if (tolerance == planar_tolerance_) return;
     planar_tolerance_ = tolerance;
     build_all_ = true;
+    rows_laid_out_ = false;
 }
 
 void GlProjector::set_culling(bool culling) {
@@ -526,6 +544,10 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
         bytes_ = gpu_capacity_bytes();
         build_all_ = elements_all_ = true;
     }
+    // The rows' layout (projector_tables.comp): compact unless the renderer takes in-place
+    // updates; a change of layout rebuilds every cell.
+    if (compact_rows_ && updated_in_place_) compact_rows_ = false, build_all_ = true;
+    const int layout = all_tetrahedra() || !compact_rows_ ? kTableLayoutFull : rows_laid_out_ ? kTableLayoutKept : kTableLayoutDecide;
     if (!tables_program_ || tables_program_cells_ != vertices_per_cell_) { // linked once per kind of mesh
         tables_program_ = &program({"projector_tables.comp"}, mesh_defines());
         tables_program_cells_ = vertices_per_cell_;
@@ -538,6 +560,7 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
     glProgramUniform1i(p, kUniformTableElements, elements_all_ || view_changed ? 1 : 0);
     glProgramUniform1i(p, kUniformTableCull, culling_ ? 1 : 0);
     glProgramUniform1d(p, kUniformTablePlanarTolerance, planar_tolerance_);
+    glProgramUniform1i(p, kUniformTableLayout, layout);
     if (view_changed) {
         // The view's left, right, bottom, top and near planes (not the far one: no path cuts cells
         // there) in the relative frame, moved out by a hair of the mesh's size: cells on a plane
@@ -571,13 +594,44 @@ void GlProjector::build_tables(const Camera* view, double aspect) {
                                                  {kBindingElementsOut, elements_.id()},
                                                  {kBindingPointStamps, point_stamps_.id()},
                                                  {kBindingCellStamps, cell_stamps_.id()},
-                                                 {kBindingCellWordsOut, cell_words_.id()}};
+                                                 {kBindingCellWordsOut, cell_words_.id()},
+                                                 {kBindingFoldBasesOut, fold_bases_.id()}};
     for (const auto& [binding, buffer] : buffers) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
     glDispatchCompute(GLuint((mesh_.cell_count() + 63) / 64), 1, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    (layout == kTableLayoutDecide ? GL_BUFFER_UPDATE_BARRIER_BIT : 0u)); // lay_out_rows reads the words
+    if (layout == kTableLayoutDecide) lay_out_rows(p);
     build_all_ = elements_all_ = false;
     built_stamp_ = stamp_;
     FX_GL_CHECK("projector tables");
+}
+
+void GlProjector::lay_out_rows(GLuint program) {
+    // The planar bits the pass decided, back to the CPU (a new mesh or tolerance: once), each
+    // cell that is not planar given its row pairs in the order of the cells, then the rows.
+    const std::size_t nc = mesh_.cell_count();
+    resize_kept(laid_out_words_, nc);
+    resize_kept(fold_base_data_, nc);
+    glGetNamedBufferSubData(cell_words_.id(), 0, GLsizeiptr(nc * 4), laid_out_words_.data());
+    std::size_t rows = 0;
+    for (std::size_t c = 0; c < nc; ++c) {
+        const std::uint32_t w = laid_out_words_[c];
+        fold_base_data_[c] = (w & kWordPlanar) ? 0u : std::uint32_t(rows);
+        rows += (w & kWordPlanar) ? 0u : (w & ((1u << kWordCountBits) - 1u)) + 1u;
+    }
+    check_texture_buffer_size(2 * rows, "barycentric rows");
+    fold_bases_.upload(fold_base_data_.data(), nc * 4, fold_bases_texture_, GL_R32UI);
+    if (barycentrics_.reserve(2 * rows * sizeof(glm::vec4))) attach(barycentrics_texture_, GL_RGBA32F, barycentrics_.id());
+    fold_rows_ = rows;
+    rows_laid_out_ = true;
+    bytes_ = gpu_capacity_bytes();
+    if (rows == 0) return;
+    glProgramUniform1i(program, kUniformTableLayout, kTableLayoutRowsOnly);
+    glProgramUniform1i(program, kUniformTableElements, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingBarycentricsOut, barycentrics_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFoldBasesOut, fold_bases_.id());
+    glDispatchCompute(GLuint((nc + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 const ProjectorGeometry& GlProjector::geometry() const {
@@ -687,6 +741,8 @@ void GlProjector::upload_mesh(const CellMesh& source, const std::string& scalar_
                               GL_UNSIGNED_INT, &zero);
     stamp_ = built_stamp_ = 0;
     build_all_ = elements_all_ = true;
+    compact_rows_ = !updated_in_place_;
+    rows_laid_out_ = false;
     bytes_ = gpu_capacity_bytes();
     FX_GL_CHECK("upload mesh");
 }
@@ -701,8 +757,9 @@ ProjectorMemory GlProjector::memory() const {
     m.mesh = std::size_t(kTableSize + 1) * 3 * 16; // the transfer-function tables
     for (const gl::GrowingBuffer* b : {&points_, &connectivity_, &cell_offsets_, &cell_words_, &point_stamps_, &cell_stamps_})
         m.mesh += b->capacity();
-    for (const gl::GrowingBuffer* b : {&planes_, &scalar_fns_, &barycentrics_, &elements_, &piece_points_})
+    for (const gl::GrowingBuffer* b : {&planes_, &scalar_fns_, &barycentrics_, &fold_bases_, &elements_, &piece_points_})
         m.cell_tables += b->capacity();
+    m.barycentric_rows = barycentrics_.capacity();
     m.unique_faces = unique_faces_buffer_.capacity();
     return m;
 }
@@ -781,6 +838,7 @@ void GlProjector::bind_mesh() const {
         {kUnitPlanes, planes_texture_.id()},
         {kUnitScalarFunctions, scalar_fns_texture_.id()},
         {kUnitBarycentrics, barycentrics_texture_.id()},
+        {kUnitFoldBases, fold_bases_texture_.id()},
         {kUnitPiecePoints, piece_points_texture_.id()},
     };
     for (const auto& [unit, texture] : textures) {

@@ -37,8 +37,13 @@
 //   planes            per face triangle: outward unit normal n, n·p
 //   scalar functions  per face triangle: (g, s0), the scalar on it is g·q + s0 (a
 //                     tetrahedron's: its own linear function, on every face)
-//   barycentrics      per face triangle, two rows: b1 = r1·q + r1w, b2 = r2·q + r2w (meshes
-//                     with cells other than tetrahedra: the exact paths' entry search)
+//   barycentrics      per face triangle of a cell that is not planar, two rows: b1 = r1·q + r1w,
+//                     b2 = r2·q + r2w (meshes with cells other than tetrahedra: the exact
+//                     paths' entry search), from row pair fold base + k on
+//   fold bases        per cell, where its rows start: compact (only cells that are not planar
+//                     have rows, in cell order; laid out by the CPU from the planar bits the
+//                     GPU decided, read back once per mesh) or, once the renderer has taken an
+//                     in-place update, by slot (fold base = first triangle), see the members
 //   except for planar cells (the planar bit of their word; gl_interface.hpp: kPlanarTolerance),
 //   whose fragments clip their ray by the faces' planes with no search: in the same slots their
 //   F faces' planes, then their Q quads' diagonal planes (which side of the diagonal is the
@@ -94,8 +99,9 @@ struct ProgramVariants {
 // The per-triangle tables and the element buffer of a mesh (gl_projector's "where the tables are
 // built"): in each cell's triangle slots its planes, scalar functions and (meshes with cells
 // other than tetrahedra) two barycentric rows per slot — a planar cell's laid out by face, any
-// other's by triangle — and per face triangle its three vertex ids cell·V + k; per cell its word
-// (gl_interface.hpp: cell_word, with the planar bit).
+// other's by triangle; a planar cell's rows zero (read_tables lays the GPU's rows out so,
+// whatever their layout there) — and per face triangle its three vertex ids cell·V + k; per
+// cell its word (gl_interface.hpp: cell_word, with the planar bit).
 struct ProjectorTables {
     std::vector<glm::vec4> planes, scalar_functions, barycentrics;
     std::vector<std::uint32_t> elements, words;
@@ -114,6 +120,7 @@ struct ProjectorMemory {
     std::size_t mesh = 0;         // points, connectivity, cell offsets and words, stamps, transfer tables
     std::size_t cell_tables = 0;  // planes, scalar functions, barycentric rows, elements, a frame's pieces:
                                   // the exact paths' (pcp-exact, absorption-exact)
+    std::size_t barycentric_rows = 0; // of cell_tables: the rows (compact: only cells that are not planar)
     std::size_t unique_faces = 0; // mip's (made on first use)
 };
 
@@ -243,6 +250,9 @@ private:
     void flush_triangles() const;
     // prepare_draw's work; `view` null: no view to cull for.
     void build_tables(const Camera* view, double aspect);
+    // After the tables pass `program` decided the planar bits with compact rows: reads them
+    // back, gives each cell that is not planar its row pairs and runs the pass for the rows.
+    void lay_out_rows(GLuint program);
     gl::Texture& attach(gl::Texture& texture, GLenum format, GLuint buffer);
     std::size_t gpu_capacity_bytes() const;
     // The nearest and deepest corners of the mesh's bounds beyond the near plane of `view`
@@ -275,9 +285,19 @@ private:
 
     // Grown, never shrunk; planes and scalar functions have room after the mesh's triangles for
     // a frame's tetrahedra (upload_pieces).
-    gl::GrowingBuffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, elements_;
+    gl::GrowingBuffer points_, connectivity_, cell_offsets_, cell_words_, planes_, scalar_fns_, barycentrics_, fold_bases_,
+        elements_;
     gl::Texture points_texture_, connectivity_texture_, cell_offsets_texture_, cell_words_texture_, planes_texture_,
-        scalar_fns_texture_, barycentrics_texture_;
+        scalar_fns_texture_, barycentrics_texture_, fold_bases_texture_;
+    // The barycentric rows' layout (meshes with cells other than tetrahedra): compact — only
+    // the cells that are not planar have rows, fold_bases_ says where — until the renderer's
+    // first in-place update, whose changed points may fold any cell the GPU rebuilds (the CPU
+    // would have to read the count back every update to size the rows): from then on, for this
+    // and every later mesh, by slot, as the planes (fold base = first triangle).
+    bool updated_in_place_ = false, compact_rows_ = true;
+    bool rows_laid_out_ = false;  // compact: fold_bases_ matches the planar bits (new scalars keep them)
+    std::size_t fold_rows_ = 0;   // compact: row pairs laid out
+    std::vector<std::uint32_t> laid_out_words_, fold_base_data_; // lay_out_rows' (kept)
     gl::VertexArray vertex_array_;
     gl::Buffer tables_buffer_;
     gl::Texture tables_;
