@@ -256,6 +256,24 @@ TEST_CASE("general convex overlay: random views of every cell type, exact at ver
     }
 }
 
+TEST_CASE("projection frame: corners snapped to the rasteriser's sub-pixel grid", "[absorption]") {
+    fx::ProjectionFrame frame;
+    const glm::dvec2 p(0.123456789, -0.987654321);
+    CHECK(frame.snap(p) == p); // no grid known: unchanged
+    frame.pixels_per_ndc = {256.0, 192.0}; // a 512 × 384 viewport
+    frame.subpixel_step = 1.0 / 256.0;     // 8 bits
+    const glm::dvec2 q = frame.snap(p);
+    const glm::dvec2 window = (q + 1.0) * frame.pixels_per_ndc * 256.0;
+    CHECK(std::abs(window.x - std::round(window.x)) < 1e-6); // on the grid (to double rounding)
+    CHECK(std::abs(window.y - std::round(window.y)) < 1e-6);
+    CHECK(std::abs((q - p).x) * frame.pixels_per_ndc.x <= 0.5 / 256.0); // moved by half a step at most
+    CHECK(std::abs((q - p).y) * frame.pixels_per_ndc.y <= 0.5 / 256.0);
+    CHECK(glm::length(frame.snap(q) - q) < 1e-15); // a corner on the grid stays
+    // float keeps a snapped corner within 1e-4 of a grid step (what the GL receives).
+    const glm::dvec2 f(float(q.x), float(q.y));
+    CHECK(std::abs(((f + 1.0) * frame.pixels_per_ndc * 256.0 - window).x) < 1e-4 * 256.0);
+}
+
 TEST_CASE("clip_polyhedron: a closed, outward cap and the right volume", "[absorption]") {
     const fx::CellMesh cube = fx_test::hex_box(1, 1, 1);
     fx::ConvexPolyhedron p;

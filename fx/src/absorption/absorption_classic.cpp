@@ -304,7 +304,8 @@ void ClassicAbsorptionBuilder::emit(double lo, double hi, ClassicGeometry& out) 
     const double a = l_max > 0.0 && tau_max > 0.0 ? std::sqrt(l_max * k / tau_max) : 1.0;
     for (std::size_t i = 0; i < nv; ++i) {
         const SubdivisionVertex& sv = subdivision_.vertices[i];
-        out.vertices.push_back({glm::vec4(float(sv.ndc.x), float(sv.ndc.y), float(sv.thickness / a), float(tau_[i] * a / k)),
+        const glm::dvec2 ndc = frame_.snap(sv.ndc);
+        out.vertices.push_back({glm::vec4(float(ndc.x), float(ndc.y), float(sv.thickness / a), float(tau_[i] * a / k)),
                                 glm::vec3(color_[i]), glm::vec2(float(sv.depth_front), float(sv.depth_back))});
     }
     for (std::size_t q = 0; q < subdivision_.polygon_count(); ++q) {

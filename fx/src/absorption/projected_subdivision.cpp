@@ -37,6 +37,21 @@ ProjectionFrame make_projection_frame(const ProjectorView& view, const Camera& c
     return f;
 }
 
+ProjectionFrame make_projection_frame(const ProjectorView& view, const Camera& camera, int width, int height,
+                                      int subpixel_bits) {
+    ProjectionFrame f = make_projection_frame(view, camera, double(width) / double(height));
+    f.pixels_per_ndc = 0.5 * glm::dvec2(width, height);
+    f.subpixel_step = subpixel_bits > 0 ? std::ldexp(1.0, -std::min(subpixel_bits, 16)) : 0.0;
+    return f;
+}
+
+glm::dvec2 ProjectionFrame::snap(const glm::dvec2& ndc) const {
+    if (!(subpixel_step > 0.0) || !(pixels_per_ndc.x > 0.0) || !(pixels_per_ndc.y > 0.0)) return ndc;
+    // Window position (the viewport's integer offset keeps the grid), rounded to the step.
+    const glm::dvec2 window = (ndc + 1.0) * pixels_per_ndc;
+    return glm::round(window / subpixel_step) * subpixel_step / pixels_per_ndc - 1.0;
+}
+
 double ProjectedSubdivision::area() const {
     double total = 0.0;
     for (std::size_t k = 0; k + 1 < polygon_start.size(); ++k) {

@@ -57,9 +57,23 @@ struct ProjectionFrame {
     glm::dmat4 view{1.0};       // relative frame → eye space (rigid: lengths are kept)
     glm::dmat4 projection{1.0}; // eye → clip space
     bool orthographic = false;
+    // The rasteriser's grid, for snap(): half the viewport in pixels, and the sub-pixel step
+    // it snaps corners to (0: not known, snap() changes nothing).
+    glm::dvec2 pixels_per_ndc{0.0};
+    double subpixel_step = 0.0;
+    // `ndc` moved to the nearest corner position the rasteriser can represent. A triangle whose
+    // corners lie there is covered exactly where it is, so every pixel centre it covers gets
+    // its corners' values interpolated, never extrapolated: a rasteriser decides coverage
+    // from corners snapped to its grid but interpolates from the corners it was given, and a
+    // sliver thinner than the step then extrapolates without bound.
+    glm::dvec2 snap(const glm::dvec2& ndc) const;
 };
 // From the projector's view of the geometry and the camera; aspect = viewport width / height.
 ProjectionFrame make_projection_frame(const ProjectorView& view, const Camera& camera, double aspect);
+// The same for a viewport of `width` × `height` pixels drawn by a rasteriser with
+// `subpixel_bits` bits of sub-pixel precision (GL_SUBPIXEL_BITS).
+ProjectionFrame make_projection_frame(const ProjectorView& view, const Camera& camera, int width, int height,
+                                      int subpixel_bits);
 
 struct PolyVertex {
     glm::dvec3 position{0.0}; // relative frame

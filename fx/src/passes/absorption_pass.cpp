@@ -157,7 +157,12 @@ void AbsorptionPass::prepare(const Camera& camera, const Viewport& viewport, boo
     if (parts_.size() < chunks) parts_.resize(chunks);
     chunks_ = chunks;
     const ProjectorView view = projector_.view(camera);
-    const ProjectionFrame frame = make_projection_frame(view, camera, double(viewport.width) / double(viewport.height));
+    if (subpixel_bits_ < 0) {
+        GLint bits = 0;
+        glGetIntegerv(GL_SUBPIXEL_BITS, &bits);
+        subpixel_bits_ = std::max(0, int(bits));
+    }
+    const ProjectionFrame frame = make_projection_frame(view, camera, viewport.width, viewport.height, subpixel_bits_);
     parallel_for_each(
         parallel_for, chunks,
         [&](std::size_t t) {

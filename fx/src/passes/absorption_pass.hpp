@@ -103,6 +103,7 @@ private:
 
     // Classic: one builder and one output per worker, filled by prepare(), drawn in order.
     ClassicSettings classic_settings_;
+    int subpixel_bits_ = -1; // the rasteriser's GL_SUBPIXEL_BITS, asked once (classic polygons snap to it)
     std::vector<std::unique_ptr<ClassicAbsorptionBuilder>> builders_;
     std::vector<ClassicGeometry> parts_;
     std::size_t chunks_ = 0; // parts_ in use this frame
