@@ -644,6 +644,33 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         double s_front = scalar(frags[0]);
         SurfaceWalk walk;
         const auto z_of = [frags](std::size_t k) { return frags[k].z; };
+        if (!ctx_.medium && ctx_.model == OpticalModel::EmissionAbsorption) {
+            // Each crossing's place in the transfer function is looked up once, for both
+            // segments that share it (the same colours as integrate() gives).
+            TransferSample front, back;
+            bool have_front = false;
+            for (std::size_t k = 0; k < n; ++k) {
+                walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
+                if (k + 1 == n) break;
+                const double s_back = scalar(frags[k + 1]);
+                if (frags[k].toggles) in = !in;
+                bool have_back = false;
+                if (in) {
+                    const double length = dm.eye_delta(frags[k].z, frags[k + 1].z) * inv_cos;
+                    if (length > 0.0) {
+                        if (!have_front) front = transfer_sample(tf, s_front, front.up);
+                        back = transfer_sample(tf, s_back, front.up);
+                        have_back = true;
+                        acc = composite(acc, emission_absorption(tf, front, back, length));
+                    }
+                }
+                if (have_back) std::swap(front, back);
+                have_front = have_back;
+                s_front = s_back;
+            }
+            write();
+            return;
+        }
         for (std::size_t k = 0; k < n; ++k) {
             walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
             if (k + 1 == n) break;

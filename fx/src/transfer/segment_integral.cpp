@@ -38,8 +38,8 @@ struct Sample {
 Sample sample_of(const TransferPoint& p) { return {p.color, p.sigma}; }
 
 // Value at s on interval j of the transfer function: between points j−1 and j (interval 0 and
-// interval n are the held ends). Exact at the interval's end points. Inline: the scan-line
-// renderer calls it twice per segment, and the call cost as much as its work.
+// interval n are the held ends). Exact at the interval's end points. Inline: the call cost as
+// much as its work. transfer_sample() (segment_integral.hpp) repeats its expressions.
 inline Sample on_interval(const TransferPoint* p, std::size_t n, std::size_t j, double s) {
     if (j == 0) return sample_of(p[0]);
     if (j == n) return sample_of(p[n - 1]);
@@ -317,12 +317,33 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
     return out;
 }
 
-SegmentColor composite(const SegmentColor& front, const SegmentColor& back) {
-    const double through = 1.0 - front.alpha;
+SegmentColor emission_absorption(const TransferFunction& tf, const TransferSample& front, const TransferSample& back,
+                                 double length) {
+    // The interval emission_absorption() finds for s_front is front.up going up and
+    // front.down going down; the segment is one piece when s_back lies in it, ends included,
+    // i.e. back.down (up) or back.up (down) is that interval. on_interval() then gives at
+    // either end the value the sample holds: inside the interval by the same expression, at
+    // an end point that point's value (exactly: s == b.s, or t = 0). For s_front == s_back
+    // value_at() gives the sample's value as well.
+    const bool up = front.s < back.s;
+    const std::size_t j = up ? front.up : front.down;
+    if (j == TransferSample::kOnStep || (up ? back.down : back.up) != j)
+        return emission_absorption(tf, front.s, back.s, length);
     SegmentColor out;
-    out.color = front.color + through * back.color;
-    out.alpha = front.alpha + through * back.alpha; // no 1 − (1−α)(1−β): exact for tiny alphas
-    out.optical_depth = front.optical_depth + back.optical_depth;
+    if (!(length > 0.0)) return out;
+    if (front.s == back.s) {
+        out.optical_depth = length * front.sigma;
+        out.alpha = -std::expm1(-out.optical_depth);
+        out.color = front.c * out.alpha;
+        return out;
+    }
+    const double a = length * front.sigma, b = length * back.sigma;
+    out.optical_depth = 0.5 * a + 0.5 * b;
+    if (out.optical_depth > 0.0) {
+        const Weights w = piece_weights(a, b);
+        out.color = w.w0 * front.c + w.w1 * back.c;
+    }
+    out.alpha = -std::expm1(-out.optical_depth);
     return out;
 }
 

@@ -17,6 +17,7 @@
 // Scalars must be finite. No allocation; safe to call from many threads at once.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -43,9 +44,75 @@ glm::dvec3 segment_maximum(const TransferFunction& tf, double s_front, double s_
 // SegmentColor: fx/segment_color.hpp.
 SegmentColor emission_absorption(const TransferFunction& tf, double s_front, double s_back, double length);
 
+// A scalar's place in a transfer function, looked up once per ray crossing and read by the two
+// segments that share the crossing (the scan-line renderer's pixel walk), so that a segment
+// does not search the transfer function's points again: s, the value there (c, σ) and the
+// interval a segment leaving s downwards (`down`) or upwards (`up`) starts in. Interval j lies
+// between points j−1 and j (0 and n are the held ends). Inside an interval down == up; on a
+// point i, down = i and up = i + 1, the value is the point's; on a step (several points at s)
+// the value depends on the side a segment comes from: down = up = kOnStep.
+struct TransferSample {
+    static constexpr std::size_t kOnStep = ~std::size_t(0);
+    double s = 0.0;
+    glm::dvec3 c{0.0};
+    double sigma = 0.0;
+    std::size_t down = kOnStep, up = kOnStep;
+};
+
+// `hint`: an interval to try first (a neighbouring crossing's), or kOnStep. Inline: it runs
+// once per crossing.
+inline TransferSample transfer_sample(const TransferFunction& tf, double s, std::size_t hint = TransferSample::kOnStep) {
+    TransferSample out;
+    out.s = s;
+    const TransferPoint* p = tf.points().data();
+    const std::size_t n = tf.points().size();
+    if (n == 0) return out;
+    std::size_t j = hint;
+    if (!(hint <= n && (hint == 0 || p[hint - 1].s < s) && (hint == n || s < p[hint].s))) {
+        // upper_bound: past every point at s, as emission_absorption() searches upwards.
+        j = static_cast<std::size_t>(
+            std::upper_bound(p, p + n, s, [](double v, const TransferPoint& q) { return v < q.s; }) - p);
+        if (j > 0 && p[j - 1].s == s) { // on point j − 1
+            if (j > 1 && p[j - 2].s == s) return out; // a step
+            out.down = j - 1;
+            out.up = j;
+            out.c = p[j - 1].color;
+            out.sigma = p[j - 1].sigma;
+            return out;
+        }
+    }
+    out.down = out.up = j;
+    if (j == 0 || j == n) { // the held ends
+        out.c = p[j == 0 ? 0 : n - 1].color;
+        out.sigma = p[j == 0 ? 0 : n - 1].sigma;
+        return out;
+    }
+    // on_interval() in segment_integral.cpp, the same expressions (s is never p[j].s here).
+    const TransferPoint& a = p[j - 1];
+    const TransferPoint& b = p[j];
+    const double t = (s - a.s) / (b.s - a.s);
+    out.c = a.color + t * (b.color - a.color);
+    out.sigma = a.sigma + t * (b.sigma - a.sigma);
+    return out;
+}
+
+// emission_absorption(tf, front.s, back.s, length), bit for bit, from the ends' samples: a
+// segment inside one interval (nearly every segment of a fine mesh, ends on a point included)
+// reads the values the samples hold; any other goes through the function above.
+SegmentColor emission_absorption(const TransferFunction& tf, const TransferSample& front, const TransferSample& back,
+                                 double length);
+
 // Front-to-back "over": `front` in front of `back`. Uses the alphas (colour and alpha add with
-// weight 1 − front.alpha); optical depths add.
-SegmentColor composite(const SegmentColor& front, const SegmentColor& back);
+// weight 1 − front.alpha); optical depths add. Inline: the scan-line renderer composites once
+// per segment.
+inline SegmentColor composite(const SegmentColor& front, const SegmentColor& back) {
+    const double through = 1.0 - front.alpha;
+    SegmentColor out;
+    out.color = front.color + through * back.color;
+    out.alpha = front.alpha + through * back.alpha; // no 1 − (1−α)(1−β): exact for tiny alphas
+    out.optical_depth = front.optical_depth + back.optical_depth;
+    return out;
+}
 
 // ∫ from the first control point's s to s of c(u)·σ(u) du (per unit scalar). The emission of
 // a segment is then length·(E(s_b) − E(s_f))/(s_b − s_f), which is what a GPU emission table
