@@ -51,6 +51,7 @@ struct SVertex {
 // A triangle with its vertices sorted bottom to top, ready to be cut by scan lines.
 struct ScanTriangle {
     ScreenPoint v[3];
+    float key; // sum of its points' depths (3× the centroid's): the order a scan line cuts triangles in
     std::uint32_t id;
     std::uint32_t grid : 30;
     std::uint32_t toggles : 1;
@@ -64,6 +65,11 @@ struct ActiveTriangle {
     ScanTriangle tri;
     std::int32_t last_row;
 };
+
+// Nearer triangles first. A scan line cuts its triangles in this order, so that each pixel's
+// crossings arrive nearly in depth order and its sort (sort_by_depth) has little to move. Any
+// order gives the same frame: the sort orders crossings by (depth, code).
+inline bool nearer(const ScanTriangle& a, const ScanTriangle& b) { return a.key < b.key; }
 
 // A fragment before the per-pixel counting sort.
 struct PixelFragment {
@@ -111,7 +117,9 @@ std::size_t bytes(const std::vector<T>& v) {
 // Per-thread buffers, kept between frames. Aligned to a cache line: the vectors' sizes
 // change with every fragment, and neighbouring workers' must not share a line.
 struct alignas(64) WorkerBuffers {
-    std::vector<ActiveTriangle> active;
+    std::vector<ActiveTriangle> active; // in nearer() order
+    std::vector<ActiveTriangle> merged; // the next line's active list while it is merged
+    std::vector<ScanTriangle> one_line; // a line's one-line triangles, in nearer() order
     std::vector<PixelFragment> fragments;
     std::vector<Fragment> sorted; // fragments by pixel, each pixel's X-bucket in depth order
     std::vector<Fragment> scratch; // merge buffer of sort_by_depth()
@@ -127,7 +135,7 @@ struct alignas(64) WorkerBuffers {
     std::vector<SurfaceWalk> walks; // per grid
 
     std::size_t active_bytes() const {
-        return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
+        return bytes(active) + bytes(merged) + bytes(one_line) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
                bytes(inside_list) + bytes(span_volumes) + bytes(walks);
     }
     std::size_t x_bytes() const {
@@ -150,6 +158,7 @@ struct FrameBuffers {
 namespace {
 
 using scanline::ActiveTriangle;
+using scanline::nearer;
 using scanline::Crossing;
 using scanline::DepthMap;
 using scanline::ExtraTriangle;
@@ -368,6 +377,7 @@ public:
     Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers), decode_(*ctx.mesh) {
         b_.active.clear();
         b_.active.reserve(ctx.max_active);
+        b_.merged.reserve(ctx.max_active);
         b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
         b_.inside.assign(ctx.grid_count, 0);
         b_.segment.assign(ctx.grid_count, GridSegment{});
@@ -465,6 +475,7 @@ void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
         t.enters = e.facing == scanline::Facing::Enters || counter_clockwise(t.v) != (e.facing == scanline::Facing::Reversed);
     }
     sort_bottom_to_top(t.v);
+    t.key = t.v[0].z + t.v[1].z + t.v[2].z;
 }
 
 void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
@@ -480,17 +491,11 @@ void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
 }
 
 void Worker::update_active(int y) {
-    // Remove finished triangles by moving the last one into their place: the order of the
-    // active list does not matter, pixels order their crossings by (depth, code).
+    // Remove finished triangles, keeping the nearer() order.
     std::vector<ActiveTriangle>& active = b_.active;
-    for (std::size_t i = 0; i < active.size();) {
-        if (active[i].last_row < y) {
-            active[i] = active.back();
-            active.pop_back();
-        } else {
-            ++i;
-        }
-    }
+    active.erase(std::remove_if(active.begin(), active.end(), [y](const ActiveTriangle& a) { return a.last_row < y; }),
+                 active.end());
+    const std::size_t kept = active.size();
     // Buckets of lines skipped since this worker's last line (taken by other workers) and of
     // line y itself. A triangle of bucket b covers lines b .. b + span − 1, so only the span
     // classes ≥ y − b + 1 (a prefix of the bucket) are still active on line y: exactly those
@@ -503,6 +508,15 @@ void Worker::update_active(int y) {
         load_active(ctx_.bucket_start[b], begin[cls - 1], y);
     }
     current_line_ = y;
+    if (active.size() > kept) { // the new ones sorted, then merged into the kept ones
+        const auto by_depth = [](const ActiveTriangle& a, const ActiveTriangle& c) { return nearer(a.tri, c.tri); };
+        std::sort(active.begin() + static_cast<std::ptrdiff_t>(kept), active.end(), by_depth);
+        std::vector<ActiveTriangle>& merged = b_.merged;
+        merged.resize(active.size());
+        std::merge(active.begin(), active.begin() + static_cast<std::ptrdiff_t>(kept),
+                   active.begin() + static_cast<std::ptrdiff_t>(kept), active.end(), merged.begin(), by_depth);
+        active.swap(merged);
+    }
 }
 
 void Worker::add_fragments(const ScanTriangle& t, double yc) {
@@ -552,18 +566,27 @@ void Worker::process_line(int y) {
     std::vector<std::uint32_t>& xcount = b_.xcount;
     frags.clear();
     std::fill(xcount.begin(), xcount.end(), 0u);
-    // X-buckets (§2.2): every crossing of a triangle with a pixel ray on this line.
-    for (const ActiveTriangle& a : b_.active) add_fragments(a.tri, yc);
+    // X-buckets (§2.2): every crossing of a triangle with a pixel ray on this line, the
+    // active list and the line's one-line triangles merged in nearer() order.
     const std::uint32_t* ids = ctx_.y_buckets;
     const std::uint32_t* classes = ctx_.class_begin + static_cast<std::size_t>(y) * kSpanClasses;
     const std::uint32_t one_line_end = classes[0];
+    std::vector<ScanTriangle>& one = b_.one_line;
+    one.resize(one_line_end - classes[1]);
     cursor_ = 0;
     for (std::uint32_t i = classes[1]; i < one_line_end; ++i) {
         prefetch_ahead(ids, i, one_line_end);
-        ScanTriangle t;
-        fetch(ids[i], t);
-        add_fragments(t, yc);
+        fetch(ids[i], one[i - classes[1]]);
     }
+    std::sort(one.begin(), one.end(), nearer);
+    const std::vector<ActiveTriangle>& active = b_.active;
+    std::size_t i = 0, j = 0;
+    for (; i < active.size() && j < one.size();) {
+        if (nearer(one[j], active[i].tri)) add_fragments(one[j++], yc);
+        else add_fragments(active[i++].tri, yc);
+    }
+    for (; i < active.size(); ++i) add_fragments(active[i].tri, yc);
+    for (; j < one.size(); ++j) add_fragments(one[j], yc);
     if (frags.empty()) return;
     // Counting sort by pixel; then each pixel's X-bucket in depth order, ties by id, so that
     // equal depths order the same way whichever thread renders the line.
