@@ -364,6 +364,13 @@ struct FrameContext {
     Image* image;
 };
 
+// Forced inline for the few small functions run once per crossing, which GCC leaves as calls.
+#if defined(__GNUC__) || defined(__clang__)
+#define SCANLINE_INLINE inline __attribute__((always_inline))
+#else
+#define SCANLINE_INLINE inline
+#endif
+
 inline void prefetch(const void* p) {
 #if defined(__GNUC__) || defined(__clang__)
     __builtin_prefetch(p);
@@ -670,7 +677,8 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         if (!ctx_.medium && ctx_.model == OpticalModel::EmissionAbsorption) {
             // Each crossing's place in the transfer function is looked up once, for both
             // segments that share it (the same colours as integrate() gives).
-            TransferSample front, back;
+            TransferSample samples[2]; // the segment's front and back, taking turns
+            int front = 0;
             bool have_front = false;
             for (std::size_t k = 0; k < n; ++k) {
                 walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
@@ -681,13 +689,15 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
                 if (in) {
                     const double length = dm.eye_delta(frags[k].z, frags[k + 1].z) * inv_cos;
                     if (length > 0.0) {
-                        if (!have_front) front = transfer_sample(tf, s_front, front.up);
-                        back = transfer_sample(tf, s_back, front.up);
+                        TransferSample& f = samples[front];
+                        TransferSample& b = samples[front ^ 1];
+                        if (!have_front) f = transfer_sample(tf, s_front, f.up);
+                        b = transfer_sample(tf, s_back, f.up);
                         have_back = true;
-                        acc = composite(acc, emission_absorption(tf, front, back, length));
+                        acc = composite(acc, emission_absorption(tf, f, b, length));
                     }
                 }
-                if (have_back) std::swap(front, back);
+                if (have_back) front ^= 1;
                 have_front = have_back;
                 s_front = s_back;
             }
@@ -820,7 +830,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
 }
 
 template <class DepthOf>
-void Worker::walk_surface(SurfaceWalk& w, std::uint32_t grid, std::size_t k, bool toggles, bool enters, std::uint32_t id,
+SCANLINE_INLINE void Worker::walk_surface(SurfaceWalk& w, std::uint32_t grid, std::size_t k, bool toggles, bool enters, std::uint32_t id,
                           const DepthOf& z_of, int x, int y) const {
     if (w.bad_from >= 0) {
         // Inside two cells (or fewer than none) from crossing bad_from to this one: more than
