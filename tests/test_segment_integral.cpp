@@ -582,3 +582,23 @@ TEST_CASE("from transfer samples: the same bits as from the scalars, hinted or n
     CHECK(on_points > 1000); // both kinds of segment were tried
     CHECK(fast > 5000);
 }
+
+TEST_CASE("alpha of a one-piece segment is 1 − e^(−τ) to a few ulp in every regime", "[transfer]") {
+    // One piece sums its colour weights for alpha where the series gives them (τ ≤ 0.5) rather
+    // than calling expm1: checked here against expm1 of the optical depth, relative.
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    double worst = 0.0;
+    for (int trial = 0; trial < 200000; ++trial) {
+        const double s0 = std::pow(10.0, -12.0 + 12.5 * u01(rng)) * (u01(rng) < 0.1 ? 0.0 : 1.0);
+        const double s1 = std::pow(10.0, -12.0 + 12.5 * u01(rng)) * (u01(rng) < 0.1 ? 0.0 : 1.0);
+        const fx::TransferFunction tf({{0.0, dvec3(1, 0.5, 0), s0}, {1.0, dvec3(0, 0.5, 1), s1}});
+        const double sf = u01(rng), sb = u01(rng), l = u01(rng);
+        const fx::SegmentColor r = fx::emission_absorption(tf, sf, sb, l);
+        if (!(r.optical_depth > 0.0)) continue;
+        const double want = -std::expm1(-r.optical_depth);
+        worst = std::max(worst, std::abs(r.alpha - want) / want);
+    }
+    WARN("largest relative error of alpha: " << worst);
+    CHECK(worst < 1e-15);
+}

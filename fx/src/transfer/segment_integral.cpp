@@ -190,6 +190,24 @@ Weights piece_weights(double a, double b) {
     return {std::max(1.0 - J, 0.0), std::max(J - e, 0.0), e};
 }
 
+// A segment of one piece: front colour c0 and optical thickness rate a = l·σ₀, back c1 and b.
+SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const glm::dvec3& c1) {
+    SegmentColor out;
+    out.optical_depth = 0.5 * a + 0.5 * b;
+    if (!(out.optical_depth > 0.0)) {
+        out.alpha = -std::expm1(-out.optical_depth);
+        return out;
+    }
+    const Weights w = piece_weights(a, b);
+    out.color = w.w0 * c0 + w.w1 * c1;
+    // The weights sum to 1 − e^{−τ}. Where the series gives them (τ ≤ kSeriesMax, a and b not
+    // clamped) they carry no significant cancellation, so their sum is alpha to a few ulp
+    // (tested against expm1) and costs no exponential; elsewhere 1 − J and J − e^{−τ} may have
+    // cancelled and expm1 gives alpha.
+    out.alpha = out.optical_depth <= kSeriesMax ? w.w0 + w.w1 : -std::expm1(-out.optical_depth);
+    return out;
+}
+
 // The largest value the GPU paths' float emission tables and their sums may reach.
 constexpr double kMaxTableValue = 1e38;
 
@@ -286,14 +304,7 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
             (up ? std::upper_bound(p, p + n, s_front, below) : std::lower_bound(p, p + n, s_front, above)) - p);
         if (up ? (j == n || !(p[j].s < s_back)) : (j == 0 || !(p[j - 1].s > s_back))) {
             const Sample v0 = on_interval(p, n, j, s_front), v1 = on_interval(p, n, j, s_back);
-            const double a = length * v0.sigma, b = length * v1.sigma;
-            out.optical_depth = 0.5 * a + 0.5 * b;
-            if (out.optical_depth > 0.0) {
-                const Weights w = piece_weights(a, b);
-                out.color = w.w0 * v0.c + w.w1 * v1.c;
-            }
-            out.alpha = -std::expm1(-out.optical_depth);
-            return out;
+            return one_piece(length * v0.sigma, length * v1.sigma, v0.c, v1.c);
         }
     }
     double transmittance = 1.0; // e^{−τ} in front of the current piece
@@ -337,14 +348,7 @@ SegmentColor emission_absorption(const TransferFunction& tf, const TransferSampl
         out.color = front.c * out.alpha;
         return out;
     }
-    const double a = length * front.sigma, b = length * back.sigma;
-    out.optical_depth = 0.5 * a + 0.5 * b;
-    if (out.optical_depth > 0.0) {
-        const Weights w = piece_weights(a, b);
-        out.color = w.w0 * front.c + w.w1 * back.c;
-    }
-    out.alpha = -std::expm1(-out.optical_depth);
-    return out;
+    return one_piece(length * front.sigma, length * back.sigma, front.c, back.c);
 }
 
 glm::dvec3 cumulative_emission(const TransferFunction& tf, double s) {
