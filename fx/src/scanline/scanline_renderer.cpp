@@ -666,7 +666,8 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     auto scalar = [&](const Fragment& f) { return f.q * (1.0 / dm.w(f.z)); }; // as Crossing::s
 
     bool one_grid = !ctx_.clip;
-    for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
+    if (ctx_.grid_count > 2) // more than one block (and the clip box's grid)
+        for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
     if (one_grid) {
         // The common case, the general walk below reduced to one grid: every segment runs
         // from a crossing of the grid to the next one.

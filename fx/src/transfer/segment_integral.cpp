@@ -191,7 +191,11 @@ Weights piece_weights(double a, double b) {
 }
 
 // A segment of one piece: front colour c0 and optical thickness rate a = l·σ₀, back c1 and b.
-SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const glm::dvec3& c1) {
+// Inlined into both emission_absorption()s: the scan-line renderer calls one per segment.
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+inline SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const glm::dvec3& c1) {
     SegmentColor out;
     out.optical_depth = 0.5 * a + 0.5 * b;
     if (!(out.optical_depth > 0.0)) {
