@@ -131,7 +131,10 @@ struct Weights {
     double w0, w1, transmittance;
 };
 
-// Weights of the front and back colours of one piece; a, b ≥ 0 as in the file comment.
+// Weights of the front and back colours of one piece; a, b ≥ 0 as in the file comment. The
+// transmittance e^{−T} only where kTransmittance (a segment of several pieces); one piece
+// leaves it out (in the series, its sum; 0 is returned).
+template <bool kTransmittance>
 Weights piece_weights(double a, double b) {
     a = std::min(a, kHugeDepth);
     b = std::min(b, kHugeDepth);
@@ -158,16 +161,16 @@ Weights piece_weights(double a, double b) {
             const double t2 = f2 * kSeries.inv_fact[m + 1], t3 = f3 * kSeries.inv_fact[m + 2];
             w0 -= f2 * kSeries.w0[m + 1];
             w1 -= f2 * kSeries.w1[m + 1];
-            e += t2;
+            if (kTransmittance) e += t2;
             w0 -= f3 * kSeries.w0[m + 2];
             w1 -= f3 * kSeries.w1[m + 2];
-            e += t3;
+            if (kTransmittance) e += t3;
             f_prev = f2;
             f = f3;
             // The tail is below the last two terms once they fall this far (2T ≤ 1).
             if (std::abs(t2) + std::abs(t3) <= 2e-17 * (w0 + w1)) break;
         }
-        return {std::max(w0, 0.0), std::max(w1, 0.0), e};
+        return {std::max(w0, 0.0), std::max(w1, 0.0), kTransmittance ? e : 0.0};
     }
     const double e = std::exp(-T);
     double J;
@@ -202,7 +205,7 @@ inline SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const gl
         out.alpha = -std::expm1(-out.optical_depth);
         return out;
     }
-    const Weights w = piece_weights(a, b);
+    const Weights w = piece_weights<false>(a, b);
     out.color = w.w0 * c0 + w.w1 * c1;
     // The weights sum to 1 − e^{−τ}. Where the series gives them (τ ≤ kSeriesMax, a and b not
     // clamped) they carry no significant cancellation, so their sum is alpha to a few ulp
@@ -322,7 +325,7 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
         // No extinction means no emission either (emission is c·σ); nothing behind an opaque
         // piece is seen, but its optical depth still counts.
         if (!(depth > 0.0) || transmittance == 0.0) return;
-        const Weights w = piece_weights(a, b);
+        const Weights w = piece_weights<true>(a, b);
         color += transmittance * (w.w0 * v0.c + w.w1 * v1.c);
         transmittance *= w.transmittance;
     });
