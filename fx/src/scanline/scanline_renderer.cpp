@@ -551,15 +551,23 @@ void Worker::add_fragments(const ScanTriangle& t, double yc) {
                                                         "scan line " + std::to_string(static_cast<int>(yc)) + "'s " +
                                                             with_commas(b_.fragments.size()) + " crossings"));
     }
+    PixelFragment pf;
+    pf.f.id = t.id;
+    pf.f.grid = t.grid;
+    pf.f.toggles = t.toggles;
+    pf.f.enters = t.enters;
+    // interpolate() at the pixel centres xc: xl ≤ xc < xr, and only the first centre can be
+    // xl, so the others take its general expression directly (the same values).
+    const double zr_w = zr * inv_width, zl_w = zl * inv_width, qr_w = qr * inv_width, ql_w = ql * inv_width;
     for (int x = first; x <= last; ++x) {
         const double xc = x + 0.5;
-        PixelFragment pf;
-        pf.f.z = interpolate(zl, zr, xl, xr, inv_width, xc);
-        pf.f.q = interpolate(ql, qr, xl, xr, inv_width, xc);
-        pf.f.id = t.id;
-        pf.f.grid = t.grid;
-        pf.f.toggles = t.toggles;
-        pf.f.enters = t.enters;
+        if (x == first && xc == xl) {
+            pf.f.z = zl;
+            pf.f.q = ql;
+        } else {
+            pf.f.z = zr_w * (xc - xl) + zl_w * (xr - xc);
+            pf.f.q = qr_w * (xc - xl) + ql_w * (xr - xc);
+        }
         pf.x = x;
         b_.fragments.push_back(pf);
         ++b_.xcount[x + 1];
