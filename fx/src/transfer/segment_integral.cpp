@@ -123,7 +123,7 @@ constexpr SeriesTables kSeries = [] {
 
 // Series below this optical depth per piece; above it the closed forms lose at most a few ulp
 // to cancellation (1 − J ≥ 0.08 and J − e^{−T} ≥ J·T/2 there; see the file comment).
-constexpr double kSeriesMax = 0.5;
+constexpr double kSeriesMax = detail::kSeriesMax;
 // Above this, e^{−a} underflows many times over; clamping keeps every intermediate finite.
 constexpr double kHugeDepth = 1e300;
 
@@ -191,28 +191,6 @@ Weights piece_weights(double a, double b) {
         J = (detail::dawson(p) - e * detail::dawson(std::max(p - k, 0.0))) / k;
     }
     return {std::max(1.0 - J, 0.0), std::max(J - e, 0.0), e};
-}
-
-// A segment of one piece: front colour c0 and optical thickness rate a = l·σ₀, back c1 and b.
-// Inlined into both emission_absorption()s: the scan-line renderer calls one per segment.
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((always_inline))
-#endif
-inline SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const glm::dvec3& c1) {
-    SegmentColor out;
-    out.optical_depth = 0.5 * a + 0.5 * b;
-    if (!(out.optical_depth > 0.0)) {
-        out.alpha = -std::expm1(-out.optical_depth);
-        return out;
-    }
-    const Weights w = piece_weights<false>(a, b);
-    out.color = w.w0 * c0 + w.w1 * c1;
-    // The weights sum to 1 − e^{−τ}. Where the series gives them (τ ≤ kSeriesMax, a and b not
-    // clamped) they carry no significant cancellation, so their sum is alpha to a few ulp
-    // (tested against expm1) and costs no exponential; elsewhere 1 − J and J − e^{−τ} may have
-    // cancelled and expm1 gives alpha.
-    out.alpha = out.optical_depth <= kSeriesMax ? w.w0 + w.w1 : -std::expm1(-out.optical_depth);
-    return out;
 }
 
 // The largest value the GPU paths' float emission tables and their sums may reach.
@@ -311,7 +289,7 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
             (up ? std::upper_bound(p, p + n, s_front, below) : std::lower_bound(p, p + n, s_front, above)) - p);
         if (up ? (j == n || !(p[j].s < s_back)) : (j == 0 || !(p[j - 1].s > s_back))) {
             const Sample v0 = on_interval(p, n, j, s_front), v1 = on_interval(p, n, j, s_back);
-            return one_piece(length * v0.sigma, length * v1.sigma, v0.c, v1.c);
+            return detail::one_piece(length * v0.sigma, length * v1.sigma, v0.c, v1.c);
         }
     }
     double transmittance = 1.0; // e^{−τ} in front of the current piece
@@ -335,27 +313,9 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
     return out;
 }
 
-SegmentColor emission_absorption(const TransferFunction& tf, const TransferSample& front, const TransferSample& back,
-                                 double length) {
-    // The interval emission_absorption() finds for s_front is front.up going up and
-    // front.down going down; the segment is one piece when s_back lies in it, ends included,
-    // i.e. back.down (up) or back.up (down) is that interval. on_interval() then gives at
-    // either end the value the sample holds: inside the interval by the same expression, at
-    // an end point that point's value (exactly: s == b.s, or t = 0). For s_front == s_back
-    // value_at() gives the sample's value as well.
-    const bool up = front.s < back.s;
-    const std::size_t j = up ? front.up : front.down;
-    if (j == TransferSample::kOnStep || (up ? back.down : back.up) != j)
-        return emission_absorption(tf, front.s, back.s, length);
-    SegmentColor out;
-    if (!(length > 0.0)) return out;
-    if (front.s == back.s) {
-        out.optical_depth = length * front.sigma;
-        out.alpha = -std::expm1(-out.optical_depth);
-        out.color = front.c * out.alpha;
-        return out;
-    }
-    return one_piece(length * front.sigma, length * back.sigma, front.c, back.c);
+detail::PieceWeights detail::piece_weights(double a, double b) {
+    const Weights w = fx::piece_weights<false>(a, b);
+    return {w.w0, w.w1};
 }
 
 glm::dvec3 cumulative_emission(const TransferFunction& tf, double s) {

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -96,11 +97,61 @@ inline TransferSample transfer_sample(const TransferFunction& tf, double s, std:
     return out;
 }
 
+namespace detail {
+// Power series below this optical depth per piece (segment_integral.cpp).
+constexpr double kSeriesMax = 0.5;
+// The weights of a piece's front and back colours (segment_integral.cpp's file comment) for
+// optical thickness rates a, b ≥ 0 with a + b > 0.
+struct PieceWeights {
+    double w0, w1;
+};
+PieceWeights piece_weights(double a, double b);
+
+// A segment of one piece: front colour c0 and optical thickness rate a = l·σ₀, back c1 and b.
+// Inline, as the next function: the scan-line renderer integrates one per segment.
+inline SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const glm::dvec3& c1) {
+    SegmentColor out;
+    out.optical_depth = 0.5 * a + 0.5 * b;
+    if (!(out.optical_depth > 0.0)) {
+        out.alpha = -std::expm1(-out.optical_depth);
+        return out;
+    }
+    const PieceWeights w = piece_weights(a, b);
+    out.color = w.w0 * c0 + w.w1 * c1;
+    // The weights sum to 1 − e^{−τ}. Where the series gives them (τ ≤ kSeriesMax, a and b not
+    // clamped) they carry no significant cancellation, so their sum is alpha to a few ulp
+    // (tested against expm1) and costs no exponential; elsewhere 1 − J and J − e^{−τ} may have
+    // cancelled and expm1 gives alpha.
+    out.alpha = out.optical_depth <= kSeriesMax ? w.w0 + w.w1 : -std::expm1(-out.optical_depth);
+    return out;
+}
+} // namespace detail
+
 // emission_absorption(tf, front.s, back.s, length), bit for bit, from the ends' samples: a
 // segment inside one interval (nearly every segment of a fine mesh, ends on a point included)
 // reads the values the samples hold; any other goes through the function above.
-SegmentColor emission_absorption(const TransferFunction& tf, const TransferSample& front, const TransferSample& back,
-                                 double length);
+inline SegmentColor emission_absorption(const TransferFunction& tf, const TransferSample& front,
+                                        const TransferSample& back, double length) {
+    // The interval emission_absorption() finds for s_front is front.up going up and
+    // front.down going down; the segment is one piece when s_back lies in it, ends included,
+    // i.e. back.down (up) or back.up (down) is that interval. on_interval() then gives at
+    // either end the value the sample holds: inside the interval by the same expression, at
+    // an end point that point's value (exactly: s == b.s, or t = 0). For s_front == s_back
+    // value_at() gives the sample's value as well.
+    const bool up = front.s < back.s;
+    const std::size_t j = up ? front.up : front.down;
+    if (j == TransferSample::kOnStep || (up ? back.down : back.up) != j)
+        return emission_absorption(tf, front.s, back.s, length);
+    SegmentColor out;
+    if (!(length > 0.0)) return out;
+    if (front.s == back.s) {
+        out.optical_depth = length * front.sigma;
+        out.alpha = -std::expm1(-out.optical_depth);
+        out.color = front.c * out.alpha;
+        return out;
+    }
+    return detail::one_piece(length * front.sigma, length * back.sigma, front.c, back.c);
+}
 
 // Front-to-back "over": `front` in front of `back`. Uses the alphas (colour and alpha add with
 // weight 1 − front.alpha); optical depths add. Inline: the scan-line renderer composites once
