@@ -132,24 +132,28 @@ inline SegmentColor one_piece(double a, double b, const glm::dvec3& c0, const gl
 // reads the values the samples hold; any other goes through the function above.
 inline SegmentColor emission_absorption(const TransferFunction& tf, const TransferSample& front,
                                         const TransferSample& back, double length) {
-    // The interval emission_absorption() finds for s_front is front.up going up and
-    // front.down going down; the segment is one piece when s_back lies in it, ends included,
-    // i.e. back.down (up) or back.up (down) is that interval. on_interval() then gives at
-    // either end the value the sample holds: inside the interval by the same expression, at
-    // an end point that point's value (exactly: s == b.s, or t = 0). For s_front == s_back
-    // value_at() gives the sample's value as well.
-    const bool up = front.s < back.s;
-    const std::size_t j = up ? front.up : front.down;
-    if (j == TransferSample::kOnStep || (up ? back.down : back.up) != j)
-        return emission_absorption(tf, front.s, back.s, length);
+    // For s_front == s_back (a region of constant field, often on a point of the transfer
+    // function: the field's end values are its first and last points) value_at() gives the
+    // sample's value: inside an interval by the same expression, on a point i by interval
+    // i + 1 at t = 0, i.e. the point's value (but for the sign of a zero written as −0).
+    // Otherwise the interval emission_absorption() finds for s_front is front.up going up
+    // and front.down going down; the segment is one piece when s_back lies in it, ends
+    // included, i.e. back.down (up) or back.up (down) is that interval. on_interval() then
+    // gives at either end the value the sample holds: inside the interval by the same
+    // expression, at an end point that point's value (exactly: s == b.s, or t = 0).
     SegmentColor out;
-    if (!(length > 0.0)) return out;
-    if (front.s == back.s) {
+    if (front.s == back.s && front.down != TransferSample::kOnStep) {
+        if (!(length > 0.0)) return out;
         out.optical_depth = length * front.sigma;
         out.alpha = -std::expm1(-out.optical_depth);
         out.color = front.c * out.alpha;
         return out;
     }
+    const bool up = front.s < back.s;
+    const std::size_t j = up ? front.up : front.down;
+    if (j == TransferSample::kOnStep || (up ? back.down : back.up) != j)
+        return emission_absorption(tf, front.s, back.s, length);
+    if (!(length > 0.0)) return out;
     return detail::one_piece(length * front.sigma, length * back.sigma, front.c, back.c);
 }
 
