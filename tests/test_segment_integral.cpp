@@ -602,3 +602,35 @@ TEST_CASE("alpha of a one-piece segment is 1 − e^(−τ) to a few ulp in every
     WARN("largest relative error of alpha: " << worst);
     CHECK(worst < 1e-15);
 }
+
+TEST_CASE("two pieces' colour weights at once: the bits of one at a time", "[transfer]") {
+    // The scan-line renderer computes the weights of consecutive segments in pairs
+    // (piece_weights_2, two series side by side); each must equal piece_weights' alone.
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    auto rate = [&]() {
+        const double r = u01(rng);
+        if (r < 0.05) return 0.0;
+        if (r < 0.1) return 0.25 + 0.25 * u01(rng); // near the series' limit (T = 0.5)
+        return std::pow(10.0, -14.0 + 15.0 * u01(rng));
+    };
+    int series_pairs = 0;
+    for (int trial = 0; trial < 100000; ++trial) {
+        double a[2], b[2];
+        for (int i = 0; i < 2; ++i) {
+            a[i] = rate();
+            b[i] = rate();
+            if (!(a[i] + b[i] > 0.0)) a[i] = 1e-3;
+        }
+        fx::detail::PieceWeights w[2];
+        fx::detail::piece_weights_2(a, b, w);
+        series_pairs += (a[0] + b[0] <= 1.0 && a[1] + b[1] <= 1.0) ? 1 : 0;
+        for (int i = 0; i < 2; ++i) {
+            const fx::detail::PieceWeights one = fx::detail::piece_weights(a[i], b[i]);
+            INFO("trial " << trial << ", piece " << i << ": a " << a[i] << ", b " << b[i]);
+            REQUIRE(w[i].w0 == one.w0);
+            REQUIRE(w[i].w1 == one.w1);
+        }
+    }
+    CHECK(series_pairs > 50000);
+}

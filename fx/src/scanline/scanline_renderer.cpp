@@ -94,6 +94,13 @@ struct GridSegment {
     double scale = 0.0; // w(z_b) / (z_b − z_a), 0 for an empty segment
 };
 
+// A one-piece segment of a pixel's ray waiting for the next one, so that their colour weights
+// are computed together.
+struct PendingSegment {
+    double a, b; // optical thickness rates at the front and back
+    glm::dvec3 c0, c1;
+};
+
 // Counts, along one pixel's ray, how many cells of one grid the ray is inside: +1 where it
 // enters a cell through a grid surface, −1 where it leaves. In a grid whose cells do not
 // overlap the count stays 0 or 1 and equals the inside/outside parity; 2 or more (or −1) over
@@ -133,10 +140,12 @@ struct alignas(64) WorkerBuffers {
     std::vector<std::uint32_t> inside_list;
     std::vector<SpanVolume> span_volumes; // per-grid media: the grids over one span
     std::vector<SurfaceWalk> walks; // per grid
+    std::vector<SegmentColor> held_back; // segments behind a pending one, waiting with it
 
     std::size_t active_bytes() const {
         return bytes(active) + bytes(merged) + bytes(one_line) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
-               bytes(inside_list) + bytes(span_volumes) + bytes(walks);
+               bytes(inside_list) + bytes(span_volumes) + bytes(walks) +
+               bytes(held_back);
     }
     std::size_t x_bytes() const {
         return bytes(fragments) + bytes(sorted) + bytes(scratch) + bytes(runs) + bytes(xcount);
@@ -685,10 +694,25 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         const auto z_of = [frags](std::size_t k) { return frags[k].z; };
         if (!ctx_.medium && ctx_.model == OpticalModel::EmissionAbsorption) {
             // Each crossing's place in the transfer function is looked up once, for both
-            // segments that share it (the same colours as integrate() gives).
+            // segments that share it (the same colours as integrate() gives). The colour
+            // weights of one-piece segments, most of the work, are computed two segments at a
+            // time (piece_weights_2: two independent series side by side): a one-piece segment
+            // waits for the next, and the segments between them (rare) wait with it, so that
+            // colours are still composited in depth order.
             TransferSample samples[2]; // the segment's front and back, taking turns
             int front = 0;
             bool have_front = false;
+            scanline::PendingSegment pending{};
+            bool waiting = false;
+            std::vector<SegmentColor>& held_back = b_.held_back;
+            held_back.clear();
+            auto release = [&](const SegmentColor& first, const SegmentColor* second) {
+                acc = composite(acc, first);
+                for (const SegmentColor& c : held_back) acc = composite(acc, c);
+                held_back.clear();
+                if (second) acc = composite(acc, *second);
+                waiting = false;
+            };
             for (std::size_t k = 0; k < n; ++k) {
                 walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
                 if (k + 1 == n) break;
@@ -703,12 +727,31 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
                         if (!have_front) f = transfer_sample(tf, s_front, f.up);
                         b = transfer_sample(tf, s_back, f.up);
                         have_back = true;
-                        acc = composite(acc, emission_absorption(tf, f, b, length));
+                        double ra, rb;
+                        if (!one_piece_rates(f, b, length, ra, rb)) {
+                            const SegmentColor c = emission_absorption(tf, f, b, length);
+                            if (waiting) held_back.push_back(c);
+                            else acc = composite(acc, c);
+                        } else if (!waiting) {
+                            pending = scanline::PendingSegment{ra, rb, f.c, b.c};
+                            waiting = true;
+                        } else {
+                            const double a2[2] = {pending.a, ra}, b2[2] = {pending.b, rb};
+                            detail::PieceWeights w[2];
+                            detail::piece_weights_2(a2, b2, w);
+                            const SegmentColor second = detail::one_piece_with(ra, rb, f.c, b.c, w[1]);
+                            release(detail::one_piece_with(pending.a, pending.b, pending.c0, pending.c1, w[0]), &second);
+                        }
                     }
                 }
                 if (have_back) front ^= 1;
                 have_front = have_back;
                 s_front = s_back;
+            }
+            if (waiting) {
+                release(detail::one_piece_with(pending.a, pending.b, pending.c0, pending.c1,
+                                               detail::piece_weights(pending.a, pending.b)),
+                        nullptr);
             }
             write();
             return;
