@@ -11,7 +11,7 @@
 //   4. scan lines handed to workers in chunks through one atomic counter (no lock); each
 //      worker keeps its own active Y list of multi-line triangles, reading exactly the
 //      still-active prefix of the buckets of lines it skipped; one-line triangles are cut
-//      straight from their bucket. Each line's crossings become fragments, counting-sorted
+//      straight from their bucket. A line cuts its triangles nearest (centroid) first. Each line's crossings become fragments, counting-sorted
 //      into per-pixel X-buckets, each sorted by depth (§2.2);
 //   5. per pixel, the crossings in depth order toggle inside/outside per grid at surface
 //      triangles and the clip flag at clip polygons (§2.4 Figure 6); colour is integrated
