@@ -542,3 +542,95 @@ TEST_CASE("pre-integration table entries are emission_absorption's mean colour a
     CHECK_THROWS_AS(fx::build_preintegration_table(tf, 1, 4, 1.0), fx::Error);
     CHECK_THROWS_AS(fx::build_preintegration_table(tf, 4, 4, 0.0), fx::Error);
 }
+
+TEST_CASE("from transfer samples: the same bits as from the scalars, hinted or not", "[transfer]") {
+    // The scan-line renderer looks each crossing up once (transfer_sample) and integrates the
+    // segments between crossings from the samples; the frame must not change by a bit.
+    std::mt19937_64 rng(20261207);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const auto same = [](const fx::SegmentColor& a, const fx::SegmentColor& b) {
+        return a.color == b.color && a.alpha == b.alpha && a.optical_depth == b.optical_depth;
+    };
+    int on_points = 0, fast = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const fx::TransferFunction tf = random_tf(rng);
+        const auto& pts = tf.points();
+        auto pick_s = [&]() {
+            const double r = u01(rng);
+            if (r < 0.3) return pts[rng() % pts.size()].s; // on a point (or a step)
+            if (r < 0.4) return pts.front().s - u01(rng);   // a held end
+            return -1.5 + 4.0 * u01(rng);
+        };
+        const double sf = pick_s();
+        const double sb = u01(rng) < 0.1 ? sf : pick_s();
+        const double l = u01(rng) < 0.05 ? 0.0 : std::pow(10.0, -3.0 + 4.0 * u01(rng));
+        const std::size_t hint = rng() % (pts.size() + 2); // right, wrong or out of range
+        const fx::TransferSample f = fx::transfer_sample(tf, sf), b = fx::transfer_sample(tf, sb, hint);
+        // A hint never changes the sample.
+        const fx::TransferSample b0 = fx::transfer_sample(tf, sb);
+        REQUIRE(b.down == b0.down);
+        REQUIRE(b.up == b0.up);
+        REQUIRE(b.c == b0.c);
+        REQUIRE(b.sigma == b0.sigma);
+        on_points += f.down != f.up ? 1 : 0;
+        const bool up = sf < sb;
+        fast += (up ? f.up : f.down) != fx::TransferSample::kOnStep && (up ? b.down : b.up) == (up ? f.up : f.down);
+        INFO("trial " << trial << ": s " << sf << " -> " << sb << ", l = " << l << ", points " << pts.size());
+        REQUIRE(same(fx::emission_absorption(tf, f, b, l), fx::emission_absorption(tf, sf, sb, l)));
+        REQUIRE(same(fx::emission_absorption(tf, b, f, l), fx::emission_absorption(tf, sb, sf, l)));
+    }
+    CHECK(on_points > 1000); // both kinds of segment were tried
+    CHECK(fast > 5000);
+}
+
+TEST_CASE("alpha of a one-piece segment is 1 − e^(−τ) to a few ulp in every regime", "[transfer]") {
+    // One piece sums its colour weights for alpha where the series gives them (τ ≤ 0.5) rather
+    // than calling expm1: checked here against expm1 of the optical depth, relative.
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    double worst = 0.0;
+    for (int trial = 0; trial < 200000; ++trial) {
+        const double s0 = std::pow(10.0, -12.0 + 12.5 * u01(rng)) * (u01(rng) < 0.1 ? 0.0 : 1.0);
+        const double s1 = std::pow(10.0, -12.0 + 12.5 * u01(rng)) * (u01(rng) < 0.1 ? 0.0 : 1.0);
+        const fx::TransferFunction tf({{0.0, dvec3(1, 0.5, 0), s0}, {1.0, dvec3(0, 0.5, 1), s1}});
+        const double sf = u01(rng), sb = u01(rng), l = u01(rng);
+        const fx::SegmentColor r = fx::emission_absorption(tf, sf, sb, l);
+        if (!(r.optical_depth > 0.0)) continue;
+        const double want = -std::expm1(-r.optical_depth);
+        worst = std::max(worst, std::abs(r.alpha - want) / want);
+    }
+    WARN("largest relative error of alpha: " << worst);
+    CHECK(worst < 1e-15);
+}
+
+TEST_CASE("two pieces' colour weights at once: the bits of one at a time", "[transfer]") {
+    // The scan-line renderer computes the weights of consecutive segments in pairs
+    // (piece_weights_2, two series side by side); each must equal piece_weights' alone.
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    auto rate = [&]() {
+        const double r = u01(rng);
+        if (r < 0.05) return 0.0;
+        if (r < 0.1) return 0.25 + 0.25 * u01(rng); // near the series' limit (T = 0.5)
+        return std::pow(10.0, -14.0 + 15.0 * u01(rng));
+    };
+    int series_pairs = 0;
+    for (int trial = 0; trial < 100000; ++trial) {
+        double a[2], b[2];
+        for (int i = 0; i < 2; ++i) {
+            a[i] = rate();
+            b[i] = rate();
+            if (!(a[i] + b[i] > 0.0)) a[i] = 1e-3;
+        }
+        fx::detail::PieceWeights w[2];
+        fx::detail::piece_weights_2(a, b, w);
+        series_pairs += (a[0] + b[0] <= 1.0 && a[1] + b[1] <= 1.0) ? 1 : 0;
+        for (int i = 0; i < 2; ++i) {
+            const fx::detail::PieceWeights one = fx::detail::piece_weights(a[i], b[i]);
+            INFO("trial " << trial << ", piece " << i << ": a " << a[i] << ", b " << b[i]);
+            REQUIRE(w[i].w0 == one.w0);
+            REQUIRE(w[i].w1 == one.w1);
+        }
+    }
+    CHECK(series_pairs > 50000);
+}

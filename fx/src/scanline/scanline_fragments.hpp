@@ -32,10 +32,10 @@ inline bool depth_order(const Fragment& a, const Fragment& b) { return a.z < b.z
 // do not occur).
 inline void sort_by_depth(Fragment* k, std::size_t n, std::vector<Fragment>& scratch,
                           std::vector<std::uint32_t>& runs) {
-    // Insertion sort inside runs of at least kMinRun; a pixel's fragments come grouped by
-    // grid and, inside a grid, by cell, so they already form monotone runs (about 12 of ~10
-    // fragments on the benchmark's covered pixels): descending runs are reversed and the runs
-    // merged pairwise. All (depth, code) keys differ, so the order is total.
+    // Insertion sort inside runs of at least kMinRun; a scan line cuts its triangles nearest
+    // (by their centroids) first, so a pixel's fragments arrive nearly in depth order and
+    // already form long monotone runs: descending runs are reversed and the runs merged
+    // pairwise. All (depth, code) keys differ, so the order is total.
     constexpr std::size_t kMinRun = 8;
     auto insert_from = [&](std::size_t begin, std::size_t from, std::size_t end) {
         for (std::size_t i = from; i < end; ++i) {

@@ -11,7 +11,7 @@
 //   4. scan lines handed to workers in chunks through one atomic counter (no lock); each
 //      worker keeps its own active Y list of multi-line triangles, reading exactly the
 //      still-active prefix of the buckets of lines it skipped; one-line triangles are cut
-//      straight from their bucket. Each line's crossings become fragments, counting-sorted
+//      straight from their bucket. A line cuts its triangles nearest (centroid) first. Each line's crossings become fragments, counting-sorted
 //      into per-pixel X-buckets, each sorted by depth (§2.2);
 //   5. per pixel, the crossings in depth order toggle inside/outside per grid at surface
 //      triangles and the clip flag at clip polygons (§2.4 Figure 6); colour is integrated
@@ -51,6 +51,7 @@ struct SVertex {
 // A triangle with its vertices sorted bottom to top, ready to be cut by scan lines.
 struct ScanTriangle {
     ScreenPoint v[3];
+    float key; // sum of its points' depths (3× the centroid's): the order a scan line cuts triangles in
     std::uint32_t id;
     std::uint32_t grid : 30;
     std::uint32_t toggles : 1;
@@ -64,6 +65,11 @@ struct ActiveTriangle {
     ScanTriangle tri;
     std::int32_t last_row;
 };
+
+// Nearer triangles first. A scan line cuts its triangles in this order, so that each pixel's
+// crossings arrive nearly in depth order and its sort (sort_by_depth) has little to move. Any
+// order gives the same frame: the sort orders crossings by (depth, code).
+inline bool nearer(const ScanTriangle& a, const ScanTriangle& b) { return a.key < b.key; }
 
 // A fragment before the per-pixel counting sort.
 struct PixelFragment {
@@ -86,6 +92,13 @@ struct GridSegment {
     std::size_t a = 0, b = kNoCrossing;
     double z_a = 0.0, s_a = 0.0, ds = 0.0;
     double scale = 0.0; // w(z_b) / (z_b − z_a), 0 for an empty segment
+};
+
+// A one-piece segment of a pixel's ray waiting for the next one, so that their colour weights
+// are computed together.
+struct PendingSegment {
+    double a, b; // optical thickness rates at the front and back
+    glm::dvec3 c0, c1;
 };
 
 // Counts, along one pixel's ray, how many cells of one grid the ray is inside: +1 where it
@@ -111,7 +124,9 @@ std::size_t bytes(const std::vector<T>& v) {
 // Per-thread buffers, kept between frames. Aligned to a cache line: the vectors' sizes
 // change with every fragment, and neighbouring workers' must not share a line.
 struct alignas(64) WorkerBuffers {
-    std::vector<ActiveTriangle> active;
+    std::vector<ActiveTriangle> active; // in nearer() order
+    std::vector<ActiveTriangle> merged; // the next line's active list while it is merged
+    std::vector<ScanTriangle> one_line; // a line's one-line triangles, in nearer() order
     std::vector<PixelFragment> fragments;
     std::vector<Fragment> sorted; // fragments by pixel, each pixel's X-bucket in depth order
     std::vector<Fragment> scratch; // merge buffer of sort_by_depth()
@@ -125,10 +140,12 @@ struct alignas(64) WorkerBuffers {
     std::vector<std::uint32_t> inside_list;
     std::vector<SpanVolume> span_volumes; // per-grid media: the grids over one span
     std::vector<SurfaceWalk> walks; // per grid
+    std::vector<SegmentColor> held_back; // segments behind a pending one, waiting with it
 
     std::size_t active_bytes() const {
-        return bytes(active) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
-               bytes(inside_list) + bytes(span_volumes) + bytes(walks);
+        return bytes(active) + bytes(merged) + bytes(one_line) + bytes(cross) + bytes(next_same) + bytes(inside) + bytes(seen) + bytes(segment) +
+               bytes(inside_list) + bytes(span_volumes) + bytes(walks) +
+               bytes(held_back);
     }
     std::size_t x_bytes() const {
         return bytes(fragments) + bytes(sorted) + bytes(scratch) + bytes(runs) + bytes(xcount);
@@ -150,6 +167,7 @@ struct FrameBuffers {
 namespace {
 
 using scanline::ActiveTriangle;
+using scanline::nearer;
 using scanline::Crossing;
 using scanline::DepthMap;
 using scanline::ExtraTriangle;
@@ -355,6 +373,13 @@ struct FrameContext {
     Image* image;
 };
 
+// Forced inline for the few small functions run once per crossing, which GCC leaves as calls.
+#if defined(__GNUC__) || defined(__clang__)
+#define SCANLINE_INLINE inline __attribute__((always_inline))
+#else
+#define SCANLINE_INLINE inline
+#endif
+
 inline void prefetch(const void* p) {
 #if defined(__GNUC__) || defined(__clang__)
     __builtin_prefetch(p);
@@ -368,6 +393,7 @@ public:
     Worker(const FrameContext& ctx, WorkerBuffers& buffers) : ctx_(ctx), b_(buffers), decode_(*ctx.mesh) {
         b_.active.clear();
         b_.active.reserve(ctx.max_active);
+        b_.merged.reserve(ctx.max_active);
         b_.xcount.assign(static_cast<std::size_t>(ctx.width) + 1, 0);
         b_.inside.assign(ctx.grid_count, 0);
         b_.segment.assign(ctx.grid_count, GridSegment{});
@@ -465,6 +491,7 @@ void Worker::fetch(std::uint32_t code, ScanTriangle& t) {
         t.enters = e.facing == scanline::Facing::Enters || counter_clockwise(t.v) != (e.facing == scanline::Facing::Reversed);
     }
     sort_bottom_to_top(t.v);
+    t.key = t.v[0].z + t.v[1].z + t.v[2].z;
 }
 
 void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
@@ -480,17 +507,11 @@ void Worker::load_active(std::uint32_t begin, std::uint32_t end, int y) {
 }
 
 void Worker::update_active(int y) {
-    // Remove finished triangles by moving the last one into their place: the order of the
-    // active list does not matter, pixels order their crossings by (depth, code).
+    // Remove finished triangles, keeping the nearer() order.
     std::vector<ActiveTriangle>& active = b_.active;
-    for (std::size_t i = 0; i < active.size();) {
-        if (active[i].last_row < y) {
-            active[i] = active.back();
-            active.pop_back();
-        } else {
-            ++i;
-        }
-    }
+    active.erase(std::remove_if(active.begin(), active.end(), [y](const ActiveTriangle& a) { return a.last_row < y; }),
+                 active.end());
+    const std::size_t kept = active.size();
     // Buckets of lines skipped since this worker's last line (taken by other workers) and of
     // line y itself. A triangle of bucket b covers lines b .. b + span − 1, so only the span
     // classes ≥ y − b + 1 (a prefix of the bucket) are still active on line y: exactly those
@@ -503,6 +524,15 @@ void Worker::update_active(int y) {
         load_active(ctx_.bucket_start[b], begin[cls - 1], y);
     }
     current_line_ = y;
+    if (active.size() > kept) { // the new ones sorted, then merged into the kept ones
+        const auto by_depth = [](const ActiveTriangle& a, const ActiveTriangle& c) { return nearer(a.tri, c.tri); };
+        std::sort(active.begin() + static_cast<std::ptrdiff_t>(kept), active.end(), by_depth);
+        std::vector<ActiveTriangle>& merged = b_.merged;
+        merged.resize(active.size());
+        std::merge(active.begin(), active.begin() + static_cast<std::ptrdiff_t>(kept),
+                   active.begin() + static_cast<std::ptrdiff_t>(kept), active.end(), merged.begin(), by_depth);
+        active.swap(merged);
+    }
 }
 
 void Worker::add_fragments(const ScanTriangle& t, double yc) {
@@ -530,15 +560,23 @@ void Worker::add_fragments(const ScanTriangle& t, double yc) {
                                                         "scan line " + std::to_string(static_cast<int>(yc)) + "'s " +
                                                             with_commas(b_.fragments.size()) + " crossings"));
     }
+    PixelFragment pf;
+    pf.f.id = t.id;
+    pf.f.grid = t.grid;
+    pf.f.toggles = t.toggles;
+    pf.f.enters = t.enters;
+    // interpolate() at the pixel centres xc: xl ≤ xc < xr, and only the first centre can be
+    // xl, so the others take its general expression directly (the same values).
+    const double zr_w = zr * inv_width, zl_w = zl * inv_width, qr_w = qr * inv_width, ql_w = ql * inv_width;
     for (int x = first; x <= last; ++x) {
         const double xc = x + 0.5;
-        PixelFragment pf;
-        pf.f.z = interpolate(zl, zr, xl, xr, inv_width, xc);
-        pf.f.q = interpolate(ql, qr, xl, xr, inv_width, xc);
-        pf.f.id = t.id;
-        pf.f.grid = t.grid;
-        pf.f.toggles = t.toggles;
-        pf.f.enters = t.enters;
+        if (x == first && xc == xl) {
+            pf.f.z = zl;
+            pf.f.q = ql;
+        } else {
+            pf.f.z = zr_w * (xc - xl) + zl_w * (xr - xc);
+            pf.f.q = qr_w * (xc - xl) + ql_w * (xr - xc);
+        }
         pf.x = x;
         b_.fragments.push_back(pf);
         ++b_.xcount[x + 1];
@@ -552,18 +590,27 @@ void Worker::process_line(int y) {
     std::vector<std::uint32_t>& xcount = b_.xcount;
     frags.clear();
     std::fill(xcount.begin(), xcount.end(), 0u);
-    // X-buckets (§2.2): every crossing of a triangle with a pixel ray on this line.
-    for (const ActiveTriangle& a : b_.active) add_fragments(a.tri, yc);
+    // X-buckets (§2.2): every crossing of a triangle with a pixel ray on this line, the
+    // active list and the line's one-line triangles merged in nearer() order.
     const std::uint32_t* ids = ctx_.y_buckets;
     const std::uint32_t* classes = ctx_.class_begin + static_cast<std::size_t>(y) * kSpanClasses;
     const std::uint32_t one_line_end = classes[0];
+    std::vector<ScanTriangle>& one = b_.one_line;
+    one.resize(one_line_end - classes[1]);
     cursor_ = 0;
     for (std::uint32_t i = classes[1]; i < one_line_end; ++i) {
         prefetch_ahead(ids, i, one_line_end);
-        ScanTriangle t;
-        fetch(ids[i], t);
-        add_fragments(t, yc);
+        fetch(ids[i], one[i - classes[1]]);
     }
+    std::sort(one.begin(), one.end(), nearer);
+    const std::vector<ActiveTriangle>& active = b_.active;
+    std::size_t i = 0, j = 0;
+    for (; i < active.size() && j < one.size();) {
+        if (nearer(one[j], active[i].tri)) add_fragments(one[j++], yc);
+        else add_fragments(active[i++].tri, yc);
+    }
+    for (; i < active.size(); ++i) add_fragments(active[i].tri, yc);
+    for (; j < one.size(); ++j) add_fragments(one[j], yc);
     if (frags.empty()) return;
     // Counting sort by pixel; then each pixel's X-bucket in depth order, ties by id, so that
     // equal depths order the same way whichever thread renders the line.
@@ -636,7 +683,8 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
     auto scalar = [&](const Fragment& f) { return f.q * (1.0 / dm.w(f.z)); }; // as Crossing::s
 
     bool one_grid = !ctx_.clip;
-    for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
+    if (ctx_.grid_count > 2) // more than one block (and the clip box's grid)
+        for (std::size_t k = 1; k < n && one_grid; ++k) one_grid = frags[k].grid == frags[0].grid;
     if (one_grid) {
         // The common case, the general walk below reduced to one grid: every segment runs
         // from a crossing of the grid to the next one.
@@ -644,6 +692,70 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
         double s_front = scalar(frags[0]);
         SurfaceWalk walk;
         const auto z_of = [frags](std::size_t k) { return frags[k].z; };
+        if (!ctx_.medium && ctx_.model == OpticalModel::EmissionAbsorption) {
+            // Each crossing's place in the transfer function is looked up once, for both
+            // segments that share it (the same colours as integrate() gives). The colour
+            // weights of one-piece segments, most of the work, are computed two segments at a
+            // time (piece_weights_2: two independent series side by side): a one-piece segment
+            // waits for the next, and the segments between them (rare) wait with it, so that
+            // colours are still composited in depth order.
+            TransferSample samples[2]; // the segment's front and back, taking turns
+            int front = 0;
+            bool have_front = false;
+            scanline::PendingSegment pending{};
+            bool waiting = false;
+            std::vector<SegmentColor>& held_back = b_.held_back;
+            held_back.clear();
+            auto release = [&](const SegmentColor& first, const SegmentColor* second) {
+                acc = composite(acc, first);
+                for (const SegmentColor& c : held_back) acc = composite(acc, c);
+                held_back.clear();
+                if (second) acc = composite(acc, *second);
+                waiting = false;
+            };
+            for (std::size_t k = 0; k < n; ++k) {
+                walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
+                if (k + 1 == n) break;
+                const double s_back = scalar(frags[k + 1]);
+                if (frags[k].toggles) in = !in;
+                bool have_back = false;
+                if (in) {
+                    const double length = dm.eye_delta(frags[k].z, frags[k + 1].z) * inv_cos;
+                    if (length > 0.0) {
+                        TransferSample& f = samples[front];
+                        TransferSample& b = samples[front ^ 1];
+                        if (!have_front) f = transfer_sample(tf, s_front, f.up);
+                        b = transfer_sample(tf, s_back, f.up);
+                        have_back = true;
+                        double ra, rb;
+                        if (!one_piece_rates(f, b, length, ra, rb)) {
+                            const SegmentColor c = emission_absorption(tf, f, b, length);
+                            if (waiting) held_back.push_back(c);
+                            else acc = composite(acc, c);
+                        } else if (!waiting) {
+                            pending = scanline::PendingSegment{ra, rb, f.c, b.c};
+                            waiting = true;
+                        } else {
+                            const double a2[2] = {pending.a, ra}, b2[2] = {pending.b, rb};
+                            detail::PieceWeights w[2];
+                            detail::piece_weights_2(a2, b2, w);
+                            const SegmentColor second = detail::one_piece_with(ra, rb, f.c, b.c, w[1]);
+                            release(detail::one_piece_with(pending.a, pending.b, pending.c0, pending.c1, w[0]), &second);
+                        }
+                    }
+                }
+                if (have_back) front ^= 1;
+                have_front = have_back;
+                s_front = s_back;
+            }
+            if (waiting) {
+                release(detail::one_piece_with(pending.a, pending.b, pending.c0, pending.c1,
+                                               detail::piece_weights(pending.a, pending.b)),
+                        nullptr);
+            }
+            write();
+            return;
+        }
         for (std::size_t k = 0; k < n; ++k) {
             walk_surface(walk, frags[0].grid, k, frags[k].toggles, frags[k].enters, frags[k].id, z_of, x, y);
             if (k + 1 == n) break;
@@ -770,7 +882,7 @@ void Worker::shade_pixel(int x, int y, const Fragment* frags, std::size_t n) {
 }
 
 template <class DepthOf>
-void Worker::walk_surface(SurfaceWalk& w, std::uint32_t grid, std::size_t k, bool toggles, bool enters, std::uint32_t id,
+SCANLINE_INLINE void Worker::walk_surface(SurfaceWalk& w, std::uint32_t grid, std::size_t k, bool toggles, bool enters, std::uint32_t id,
                           const DepthOf& z_of, int x, int y) const {
     if (w.bad_from >= 0) {
         // Inside two cells (or fewer than none) from crossing bad_from to this one: more than

@@ -24,6 +24,10 @@
 
 #include <glm/common.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "fx/error.hpp"
 #include "transfer/special_functions.hpp"
 
@@ -38,8 +42,8 @@ struct Sample {
 Sample sample_of(const TransferPoint& p) { return {p.color, p.sigma}; }
 
 // Value at s on interval j of the transfer function: between points j−1 and j (interval 0 and
-// interval n are the held ends). Exact at the interval's end points. Inline: the scan-line
-// renderer calls it twice per segment, and the call cost as much as its work.
+// interval n are the held ends). Exact at the interval's end points. Inline: the call cost as
+// much as its work. transfer_sample() (segment_integral.hpp) repeats its expressions.
 inline Sample on_interval(const TransferPoint* p, std::size_t n, std::size_t j, double s) {
     if (j == 0) return sample_of(p[0]);
     if (j == n) return sample_of(p[n - 1]);
@@ -123,7 +127,7 @@ constexpr SeriesTables kSeries = [] {
 
 // Series below this optical depth per piece; above it the closed forms lose at most a few ulp
 // to cancellation (1 − J ≥ 0.08 and J − e^{−T} ≥ J·T/2 there; see the file comment).
-constexpr double kSeriesMax = 0.5;
+constexpr double kSeriesMax = detail::kSeriesMax;
 // Above this, e^{−a} underflows many times over; clamping keeps every intermediate finite.
 constexpr double kHugeDepth = 1e300;
 
@@ -131,7 +135,10 @@ struct Weights {
     double w0, w1, transmittance;
 };
 
-// Weights of the front and back colours of one piece; a, b ≥ 0 as in the file comment.
+// Weights of the front and back colours of one piece; a, b ≥ 0 as in the file comment. The
+// transmittance e^{−T} only where kTransmittance (a segment of several pieces); one piece
+// leaves it out (in the series, its sum; 0 is returned).
+template <bool kTransmittance>
 Weights piece_weights(double a, double b) {
     a = std::min(a, kHugeDepth);
     b = std::min(b, kHugeDepth);
@@ -158,16 +165,16 @@ Weights piece_weights(double a, double b) {
             const double t2 = f2 * kSeries.inv_fact[m + 1], t3 = f3 * kSeries.inv_fact[m + 2];
             w0 -= f2 * kSeries.w0[m + 1];
             w1 -= f2 * kSeries.w1[m + 1];
-            e += t2;
+            if (kTransmittance) e += t2;
             w0 -= f3 * kSeries.w0[m + 2];
             w1 -= f3 * kSeries.w1[m + 2];
-            e += t3;
+            if (kTransmittance) e += t3;
             f_prev = f2;
             f = f3;
             // The tail is below the last two terms once they fall this far (2T ≤ 1).
             if (std::abs(t2) + std::abs(t3) <= 2e-17 * (w0 + w1)) break;
         }
-        return {std::max(w0, 0.0), std::max(w1, 0.0), e};
+        return {std::max(w0, 0.0), std::max(w1, 0.0), kTransmittance ? e : 0.0};
     }
     const double e = std::exp(-T);
     double J;
@@ -286,14 +293,7 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
             (up ? std::upper_bound(p, p + n, s_front, below) : std::lower_bound(p, p + n, s_front, above)) - p);
         if (up ? (j == n || !(p[j].s < s_back)) : (j == 0 || !(p[j - 1].s > s_back))) {
             const Sample v0 = on_interval(p, n, j, s_front), v1 = on_interval(p, n, j, s_back);
-            const double a = length * v0.sigma, b = length * v1.sigma;
-            out.optical_depth = 0.5 * a + 0.5 * b;
-            if (out.optical_depth > 0.0) {
-                const Weights w = piece_weights(a, b);
-                out.color = w.w0 * v0.c + w.w1 * v1.c;
-            }
-            out.alpha = -std::expm1(-out.optical_depth);
-            return out;
+            return detail::one_piece(length * v0.sigma, length * v1.sigma, v0.c, v1.c);
         }
     }
     double transmittance = 1.0; // e^{−τ} in front of the current piece
@@ -307,7 +307,7 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
         // No extinction means no emission either (emission is c·σ); nothing behind an opaque
         // piece is seen, but its optical depth still counts.
         if (!(depth > 0.0) || transmittance == 0.0) return;
-        const Weights w = piece_weights(a, b);
+        const Weights w = piece_weights<true>(a, b);
         color += transmittance * (w.w0 * v0.c + w.w1 * v1.c);
         transmittance *= w.transmittance;
     });
@@ -317,13 +317,89 @@ SegmentColor emission_absorption(const TransferFunction& tf, double s_front, dou
     return out;
 }
 
-SegmentColor composite(const SegmentColor& front, const SegmentColor& back) {
-    const double through = 1.0 - front.alpha;
-    SegmentColor out;
-    out.color = front.color + through * back.color;
-    out.alpha = front.alpha + through * back.alpha; // no 1 − (1−α)(1−β): exact for tiny alphas
-    out.optical_depth = front.optical_depth + back.optical_depth;
-    return out;
+detail::PieceWeights detail::piece_weights(double a, double b) {
+    const Weights w = fx::piece_weights<false>(a, b);
+    return {w.w0, w.w1};
+}
+
+#if defined(__SSE2__)
+// kSeries with each coefficient twice, for SSE2's two lanes.
+struct alignas(16) SeriesPairs {
+    double inv_fact[kSeriesTerms + 1][2], w0[kSeriesTerms + 1][2], w1[kSeriesTerms + 1][2];
+};
+constexpr SeriesPairs kSeriesPairs = [] {
+    SeriesPairs t{};
+    for (std::size_t m = 0; m <= kSeriesTerms; ++m) {
+        for (int i = 0; i < 2; ++i) {
+            t.inv_fact[m][i] = kSeries.inv_fact[m];
+            t.w0[m][i] = kSeries.w0[m];
+            t.w1[m][i] = kSeries.w1[m];
+        }
+    }
+    return t;
+}();
+#endif
+
+void detail::piece_weights_2(const double a[2], const double b[2], PieceWeights out[2]) {
+#if defined(__SSE2__)
+    // piece_weights<false>'s series for two pieces at once, one per SSE2 lane: the same
+    // operations in the same order on each lane (no fused multiply-add on either side), so
+    // each lane's weights are the bits piece_weights() gives. A lane's sums are taken when
+    // its tail test first passes; it then runs on unused until the other's passes.
+    const double a0 = std::min(a[0], kHugeDepth), a1 = std::min(a[1], kHugeDepth);
+    const double b0 = std::min(b[0], kHugeDepth), b1 = std::min(b[1], kHugeDepth);
+    if (0.5 * a0 + 0.5 * b0 <= kSeriesMax && 0.5 * a1 + 0.5 * b1 <= kSeriesMax) {
+        const __m128d half = _mm_set1_pd(0.5);
+        const __m128d A = _mm_set_pd(a1, a0);
+        const __m128d B = _mm_sub_pd(_mm_mul_pd(half, _mm_set_pd(b1, b0)), _mm_mul_pd(half, A));
+        const __m128d sign = _mm_set1_pd(-0.0);
+        const __m128d nA = _mm_xor_pd(A, sign); // −A, exactly
+        __m128d f_prev = _mm_set1_pd(1.0), f = nA;
+        __m128d w0 = _mm_mul_pd(A, _mm_load_pd(kSeriesPairs.w0[1])); // −f·w0[1], f = −A
+        __m128d w1 = _mm_mul_pd(A, _mm_load_pd(kSeriesPairs.w1[1]));
+        const __m128d two_b = _mm_mul_pd(_mm_set1_pd(2.0), B);
+        const __m128d tail = _mm_set1_pd(2e-17);
+        const __m128d one = _mm_set1_pd(1.0), two = _mm_set1_pd(2.0);
+        __m128d dm = one;
+        double r0[2] = {0.0, 0.0}, r1[2] = {0.0, 0.0};
+        int taken = 0; // lanes whose sums are taken (bit i: lane i)
+        for (std::size_t m = 1; m + 1 < kSeriesTerms; m += 2, dm = _mm_add_pd(dm, two)) {
+            const __m128d f2 = _mm_sub_pd(_mm_mul_pd(nA, f), _mm_mul_pd(_mm_mul_pd(two_b, dm), f_prev));
+            const __m128d f3 = _mm_sub_pd(_mm_mul_pd(nA, f2), _mm_mul_pd(_mm_mul_pd(two_b, _mm_add_pd(dm, one)), f));
+            const __m128d t2 = _mm_mul_pd(f2, _mm_load_pd(kSeriesPairs.inv_fact[m + 1]));
+            const __m128d t3 = _mm_mul_pd(f3, _mm_load_pd(kSeriesPairs.inv_fact[m + 2]));
+            w0 = _mm_sub_pd(w0, _mm_mul_pd(f2, _mm_load_pd(kSeriesPairs.w0[m + 1])));
+            w1 = _mm_sub_pd(w1, _mm_mul_pd(f2, _mm_load_pd(kSeriesPairs.w1[m + 1])));
+            w0 = _mm_sub_pd(w0, _mm_mul_pd(f3, _mm_load_pd(kSeriesPairs.w0[m + 2])));
+            w1 = _mm_sub_pd(w1, _mm_mul_pd(f3, _mm_load_pd(kSeriesPairs.w1[m + 2])));
+            f_prev = f2;
+            f = f3;
+            const __m128d size = _mm_add_pd(_mm_andnot_pd(sign, t2), _mm_andnot_pd(sign, t3));
+            const int done = _mm_movemask_pd(_mm_cmple_pd(size, _mm_mul_pd(tail, _mm_add_pd(w0, w1)))) & ~taken;
+            if (done) { // rare: once per lane
+                double s0[2], s1[2];
+                _mm_storeu_pd(s0, w0);
+                _mm_storeu_pd(s1, w1);
+                for (int i = 0; i < 2; ++i) {
+                    if (done & (1 << i)) r0[i] = s0[i], r1[i] = s1[i];
+                }
+                taken |= done;
+                if (taken == 3) break;
+            }
+        }
+        if (taken != 3) { // the series' last term reached (as piece_weights' loop ends there)
+            double s0[2], s1[2];
+            _mm_storeu_pd(s0, w0);
+            _mm_storeu_pd(s1, w1);
+            for (int i = 0; i < 2; ++i) {
+                if (!(taken & (1 << i))) r0[i] = s0[i], r1[i] = s1[i];
+            }
+        }
+        for (int i = 0; i < 2; ++i) out[i] = {std::max(r0[i], 0.0), std::max(r1[i], 0.0)};
+        return;
+    }
+#endif
+    for (int i = 0; i < 2; ++i) out[i] = piece_weights(a[i], b[i]);
 }
 
 glm::dvec3 cumulative_emission(const TransferFunction& tf, double s) {
