@@ -30,8 +30,16 @@ constexpr std::int32_t kNoFan = -1;
 // log2 of a half size (a power of two).
 int level_of(int h) { return __builtin_ctz(unsigned(h)); }
 
+// A sleeping node's wake-up: due once the odometer reaches `at`. The odometer bounds every
+// direction of travel by the fastest, so a due node is first checked against the exact test of
+// its own f — the eye's distance to its centre within (lo, hi) keeps it as it is — and, while
+// that holds and the coarser nodes that constrain it cannot have changed it (the odometer under
+// `constraint_at`), put back to sleep without being evaluated: on a sideways flight most due
+// nodes are still far from their thresholds (their distance changed little).
 struct Wake {
     double at;               // odometer value at which the node must be looked at again
+    double constraint_at;    // odometer value at which its constraint may have changed it
+    float lo, hi;            // the distances to its centre between which its own f keeps it
     std::uint32_t node;
     std::uint32_t generation; // stale entries (rescheduled or removed nodes) are skipped
     bool operator>(const Wake& o) const { return at > o.at; }
@@ -122,6 +130,9 @@ struct ContinuousLod::Impl {
         std::uint16_t i = 0, j = 0;      // the sample's grid coordinates (no division by n)
         float true_h = 0.0f;             // the sample's height (a copy of its vertex's: own_f() reads it with the node)
         std::uint8_t state = 0, flags = 0;
+        // Its constraint is at most constraint_base + odometer / T_N (evaluate()): +∞ until its
+        // constraint chain was walked with this odometer and T_N.
+        double constraint_base = std::numeric_limits<double>::infinity();
     };
     struct Vertex {
         float true_h = 0.0f, true_t = 0.0f; // the fields' samples
@@ -306,10 +317,33 @@ struct ContinuousLod::Impl {
         const bool now_morphing = nodes[s].state & kMorph;
         morphing_count = morphing_count + (now_morphing ? 1 : 0) - (was_morphing ? 1 : 0);
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
-        const double travel = std::max(margin, 0.0) * node_scale(s, h) * (1.0 - 1e-6);
+        const double scale = node_scale(s, h);
+        const double travel = std::max(margin, 0.0) * scale * (1.0 - 1e-6);
         // A heap for the nodes not morphing: they may sleep for a long flight (the morphing ones,
         // due every few frames, are in a list scanned once a frame: see above and advance()).
-        wakes.push(Wake{odometer + travel, s, ++nodes[s].generation});
+        Wake w{odometer + travel, odometer + travel, 0.0f, std::numeric_limits<float>::infinity(), s,
+               ++nodes[s].generation};
+        if (split) {
+            // Changes once f_eff reaches the threshold: its own f (the distance reaching
+            // threshold·T) or its constraint (by the odometer).
+            const double threshold = settings.geomorph ? 0.5 : 1.0;
+            w.hi = float_below(threshold * scale * (1.0 - 1e-6));
+            w.constraint_at = odometer + std::max(threshold - constrained_by, 0.0) * scale * (1.0 - 1e-6);
+        } else if (own >= 1.0) {
+            // Splits only once its own f drops under 1 (distance under T), whatever its constraint.
+            w.lo = float_above(scale * (1.0 + 1e-6));
+            w.constraint_at = std::numeric_limits<double>::infinity();
+        } // else held unsplit by its constraint alone (the K bound failed): the odometer alone
+        wakes.push(w);
+    }
+    // The nearest float at or beyond x, each way (a sleep interval may only shrink).
+    static float float_below(double x) {
+        const float f = float(x);
+        return double(f) <= x ? f : std::nextafter(f, -std::numeric_limits<float>::infinity());
+    }
+    static float float_above(double x) {
+        const float f = float(x);
+        return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
     }
 
     void evaluate(std::uint32_t s, int h) {
@@ -318,7 +352,15 @@ struct ContinuousLod::Impl {
         ++stats->nodes_examined;
         const std::uint8_t before = nodes[s].state;
         const double blend_before = blend(s); // from its last evaluation
-        const double own = own_f(s, h), constrained_by = constraint(s, h);
+        // The coarser nodes' f_eff move by at most |Δeye| / T_N (module comment): while that
+        // bound, from the last walk of its constraint chain, stays under its own f, f_eff is
+        // its own f and the chain is not walked (an upper bound is all schedule() needs).
+        const double scale = node_scale(s, h), own = own_f(s, h);
+        double constrained_by = nodes[s].constraint_base + odometer / scale;
+        if (!(constrained_by < own * (1.0 - 1e-6))) {
+            constrained_by = constraint(s, h);
+            nodes[s].constraint_base = constrained_by - odometer / scale;
+        }
         const double f = f_eff(s, h, own, constrained_by);
         nodes[s].blend = float(morph_blend(f));
         if (f > own * (1.0 + 1e-6) && f >= 0.5) ++stats->constrained;
@@ -374,6 +416,7 @@ struct ContinuousLod::Impl {
         nodes[s].state = 0;
         --live;
         ++nodes[s].generation;
+        nodes[s].constraint_base = std::numeric_limits<double>::infinity(); // the odometer restarts on a rebuild
         drop_fan(s);
         if (was_split) mark_neighbours_changed(i, j, h);
     }
@@ -581,8 +624,20 @@ struct ContinuousLod::Impl {
             }
         };
         while (!wakes.empty() && wakes.top().at <= odometer) {
-            const Wake w = wakes.top();
+            Wake w = wakes.top();
             wakes.pop();
+            if (w.generation != nodes[w.node].generation) continue; // stale
+            if (odometer < w.constraint_at) {
+                // Its own f still keeps it while the distance to its centre stays in (lo, hi):
+                // back to sleep for as far as the eye must travel to leave that interval.
+                const double d = glm::length(eye - center_position(w.node));
+                const double left = std::min(d - double(w.lo), double(w.hi) - d);
+                if (left > 0.0 && odometer + left > odometer) {
+                    w.at = std::min(w.constraint_at, odometer + left);
+                    wakes.push(w);
+                    continue;
+                }
+            }
             wake(w.node, w.generation);
         }
         // The morphing nodes' wake-ups: those due are woken (and rescheduled by evaluate()) or
