@@ -641,15 +641,20 @@ struct ContinuousLod::Impl {
             wake(w.node, w.generation);
         }
         // The morphing nodes' wake-ups: those due are woken (and rescheduled by evaluate()) or
-        // dropped if stale, the rest kept in place without reading their nodes.
-        std::size_t kept = 0;
-        for (const MorphWake& w : morph_wakes) {
+        // dropped if stale, the rest kept in place without reading their nodes. The list is
+        // unordered: a due entry takes the last one's place, so the kept ones are not copied.
+        for (std::size_t k = 0; k < morph_wakes.size();) {
+            const MorphWake& w = morph_wakes[k];
             const double dx = eye.x - w.cx, dy = eye.y - w.cy, dz = eye.z - w.cz;
             const double d2 = dx * dx + dy * dy + dz * dz;
-            if (w.at <= odometer || !(d2 > w.lo2 && d2 < w.hi2)) wake(w.node, w.generation);
-            else morph_wakes[kept++] = w;
+            if (w.at <= odometer || !(d2 > w.lo2 && d2 < w.hi2)) {
+                wake(w.node, w.generation);
+                morph_wakes[k] = morph_wakes.back();
+                morph_wakes.pop_back();
+            } else {
+                ++k;
+            }
         }
-        morph_wakes.resize(kept);
         // Stale entries (nodes rescheduled early or removed) wait for their own condition: drop
         // them now and then.
         if (morph_wakes.size() > morphing_count + live / 2 + 1024)
