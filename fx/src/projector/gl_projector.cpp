@@ -318,19 +318,16 @@ bool GlProjector::update_mesh(const CellMesh& source, const std::string& scalar_
         set_mesh(source, scalar_name);
         return false;
     }
-    apply_changes(source, field, changes);
-    if (source_tf_.normalized()) {
-        // A normalized function follows the field's range, the whole field's.
-        const ScalarRange range = range_of(geometry_.scalars);
-        if (range.lo != field_range_.lo || range.hi != field_range_.hi) {
-            field_range_ = range;
-            set_transfer_function(source_tf_);
-        }
-    }
+    // The field's range is kept whatever the function (one set later may be normalized); a
+    // normalized function follows it, the whole field's.
+    const ScalarRange range = apply_changes(source, field, changes);
+    const bool range_changed = range.lo != field_range_.lo || range.hi != field_range_.hi;
+    field_range_ = range;
+    if (range_changed && source_tf_.normalized()) set_transfer_function(source_tf_);
     return true;
 }
 
-void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes) {
+ScalarRange GlProjector::apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes) {
     const std::size_t old_np = mesh_.point_count(), old_nc = mesh_.cell_count();
     const std::size_t np = source.point_count(), nc = source.cell_count();
     ++stamp_;
@@ -349,6 +346,10 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
     cell_scatter_->clear();
     point_scatter_->reserve(np); // at most every point and cell changes: a steady frame allocates nothing
     cell_scatter_->reserve(nc);
+    // The field's range after the changes: it only grows with the new values, unless a changed
+    // point held one of its bounds (then the whole field is scanned, below).
+    ScalarRange range = field_range_;
+    bool range_known = old_np > 0;
     for (std::uint32_t p : changes.points) {
         const glm::dvec3& q = source.points[p];
         if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
@@ -359,7 +360,10 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
         mesh_.points[p] = q;
         const glm::vec3 r(q - geometry_.origin);
         geometry_.positions[p] = r;
+        if (p < old_np && (geometry_.scalars[p] == field_range_.lo || geometry_.scalars[p] == field_range_.hi))
+            range_known = false;
         geometry_.scalars[p] = s;
+        range.lo = std::min(range.lo, s), range.hi = std::max(range.hi, s);
         bounds_.lo = glm::min(bounds_.lo, glm::dvec3(r));
         bounds_.hi = glm::max(bounds_.hi, glm::dvec3(r));
         const glm::vec4 data(r, s);
@@ -443,6 +447,7 @@ void GlProjector::apply_changes(const CellMesh& source, const ScalarField* field
     cell_scatter_->run(connectivity_.id(), cell_stamps_.id(), stamp_);
     bytes_ = gpu_capacity_bytes();
     FX_GL_CHECK("update mesh");
+    return range_known ? range : range_of(geometry_.scalars);
 }
 
 void GlProjector::flush_triangles() const {

@@ -237,7 +237,8 @@ public:
 private:
     void upload_mesh(const CellMesh& source, const std::string& scalar_name);
     // update_mesh's work once it has checked the changes apply in place.
-    void apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes);
+    // Returns the field's range after the changes.
+    ScalarRange apply_changes(const CellMesh& source, const ScalarField* field, const MeshChanges& changes);
     void upload_point_data();
     void upload_tables(const TransferFunction& tf);
     // Room in the stamps for the mesh's cells and points and, once a pass has asked for them
