@@ -51,6 +51,21 @@ void require_tiling(const terrain::LodMesh& mesh, int size) {
     CHECK(r.area == Approx(double(size - 1) * (size - 1)).epsilon(1e-12));
 }
 
+// The incremental LOD against one rebuilt for the same eye: the same triangles and, bit for
+// bit, the same morphed heights and thicknesses (the same formula on the same inputs).
+void require_same_lod(const ContinuousLod& incremental, const ContinuousLod& fresh, int size) {
+    const terrain::LodMesh a = incremental.mesh(), b = fresh.mesh();
+    REQUIRE(grid_triangles(a) == grid_triangles(b));
+    std::size_t height_mismatch = 0;
+    for (std::size_t v = 0; v < a.grid_index.size(); ++v) {
+        const int i = int(a.grid_index[v] % std::uint32_t(size)), j = int(a.grid_index[v] / std::uint32_t(size));
+        if (incremental.morphed_height(i, j) != fresh.morphed_height(i, j) ||
+            incremental.morphed_thickness(i, j) != fresh.morphed_thickness(i, j))
+            ++height_mismatch;
+    }
+    CHECK(height_mismatch == 0);
+}
+
 } // namespace
 
 TEST_CASE("LOD tiles the field without cracks or T-junctions", "[terrain][lod]") {
@@ -130,16 +145,7 @@ TEST_CASE("Incremental updates give exactly what a rebuild gives", "[terrain][lo
             ContinuousLod fresh(ground, fog, settings);
             fresh.update(view_at(eye, 1.5));
             INFO("morph steps " << morph_steps << ", frame " << f);
-            const terrain::LodMesh a = incremental.mesh(), b = fresh.mesh();
-            REQUIRE(grid_triangles(a) == grid_triangles(b));
-            std::size_t height_mismatch = 0;
-            for (std::size_t v = 0; v < a.grid_index.size(); ++v) {
-                const int i = int(a.grid_index[v] % 129), j = int(a.grid_index[v] / 129);
-                if (incremental.morphed_height(i, j) != fresh.morphed_height(i, j) ||
-                    incremental.morphed_thickness(i, j) != fresh.morphed_thickness(i, j))
-                    ++height_mismatch;
-            }
-            CHECK(height_mismatch == 0); // bit-identical: the same formula on the same inputs
+            require_same_lod(incremental, fresh, 129);
         }
         // Work follows change: nodes are looked at when the eye has moved far enough to change
         // them (woken: their split state, or a stepped blend's step), or — continuous
@@ -185,14 +191,7 @@ TEST_CASE("Incremental updates give what a rebuild gives where the K bound fails
             ContinuousLod fresh(ground, settings);
             fresh.update(view_at(eye, 1000.0));
             INFO("morph steps " << morph_steps << ", frame " << f);
-            const terrain::LodMesh a = incremental.mesh(), b = fresh.mesh();
-            REQUIRE(grid_triangles(a) == grid_triangles(b));
-            std::size_t height_mismatch = 0;
-            for (std::size_t v = 0; v < a.grid_index.size(); ++v) {
-                const int i = int(a.grid_index[v] % 129), j = int(a.grid_index[v] / 129);
-                height_mismatch += incremental.morphed_height(i, j) != fresh.morphed_height(i, j);
-            }
-            CHECK(height_mismatch == 0);
+            require_same_lod(incremental, fresh, 129);
         }
         INFO("morph steps " << morph_steps);
         CHECK(constrained > 1000); // the case this test is for happened
