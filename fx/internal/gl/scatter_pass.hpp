@@ -35,7 +35,7 @@ public:
     ScatterPass& operator=(ScatterPass&&) noexcept;
 
     // Starts a new set of records.
-    void clear() { records_.clear(), count_ = 0; }
+    void clear() { used_ = 0, count_ = 0; }
     // Adds a record of `words` (≤ words_per_record) words written from word `at` of the target;
     // `stamp_index` names the stamp buffer's entry to set (kNoStamp: none). Returns where to put
     // the words. CPU only.
@@ -52,7 +52,10 @@ private:
     std::shared_ptr<ProgramCache> cache_; // keeps the program alive
     const Program* program_ = nullptr;
     std::uint32_t words_per_record_;
+    // The records, in records_[0, used_): the vector only grows (its size is the room kept), so
+    // add() writes in place instead of resizing, the one call a record made.
     std::vector<std::uint32_t> records_;
+    std::size_t used_ = 0;
     std::size_t count_ = 0;
     GrowingBuffer staging_;
 };

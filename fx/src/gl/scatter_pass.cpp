@@ -38,25 +38,26 @@ ScatterPass::ScatterPass(ScatterPass&&) noexcept = default;
 ScatterPass& ScatterPass::operator=(ScatterPass&&) noexcept = default;
 
 std::uint32_t* ScatterPass::add(std::uint32_t at, std::uint32_t words, std::uint32_t stamp_index) {
-    const std::size_t base = records_.size();
     const std::size_t stride = 4 + words_per_record_;
-    if (records_.capacity() < base + stride) records_.reserve(std::max(base + stride, records_.capacity() * 3 / 2 + 64));
-    records_.resize(base + stride, 0u);
-    records_[base] = at;
-    records_[base + 1] = words;
-    records_[base + 2] = stamp_index;
+    if (records_.size() < used_ + stride) records_.resize(std::max(used_ + stride, records_.size() * 3 / 2 + 64));
+    std::uint32_t* record = records_.data() + used_;
+    record[0] = at;
+    record[1] = words;
+    record[2] = stamp_index;
+    record[3] = 0;
+    used_ += stride;
     ++count_;
-    return records_.data() + base + 4;
+    return record + 4; // words past `words` keep older values: the pass copies only `words`
 }
 
 void ScatterPass::reserve(std::size_t records) {
     const std::size_t words = records * (4 + words_per_record_);
-    if (records_.capacity() < words) records_.reserve(words + words / 2);
+    if (records_.size() < words) records_.resize(words + words / 2);
 }
 
 void ScatterPass::run(GLuint target, GLuint stamps, std::uint32_t stamp) {
     if (count_ == 0) return;
-    staging_.upload(records_.data(), records_.size() * 4);
+    staging_.upload(records_.data(), used_ * 4);
     StateGuard guard;
     const GLuint p = program_->id();
     glUseProgram(p);
