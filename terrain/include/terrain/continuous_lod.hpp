@@ -58,13 +58,16 @@ namespace cellfx::terrain {
 // another fan moved into it), and slots from fan_count() up to fans_before are gone. The same
 // changes by the fan's node (its centre sample) in `fan_nodes`: nodes whose fan is new, rebuilt
 // differently or gone (fan_of() says which) — a fan that only moved to another slot is not
-// among them. Vertices are samples (j·size + i) whose morphed height or thickness changed.
+// among them. Vertices are samples (j·size + i) whose morphed height or thickness changed, with
+// their new height and thickness (vertex_position().z and vertex_thickness()) side by side: a
+// consumer reads them in order instead of looking each vertex up again.
 struct LodChanges {
     bool full = true; // rebuilt from the root (or before the first update): take everything anew
     std::size_t fans_before = 0;
     std::vector<std::uint32_t> fans;
     std::vector<std::uint32_t> fan_nodes;
     std::vector<std::uint32_t> vertices;
+    std::vector<float> vertex_heights, vertex_thicknesses;
 };
 
 // One leaf's triangle fan: its centre sample and its ring (corners and the edge midpoints its

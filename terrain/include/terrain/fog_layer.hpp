@@ -94,7 +94,8 @@ public:
 
 private:
     void build_whole(const ContinuousLod& lod, const LayerPrismOptions& options, fx::CellMesh& out, fx::MeshChanges& changes);
-    void set_points(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t pair, fx::CellMesh& out,
+    // The pair's points: the bottom at `p`, the top `t` above it.
+    void set_points(const LayerPrismOptions& options, std::uint32_t pair, const glm::dvec3& p, double t, fx::CellMesh& out,
                     fx::MeshChanges& changes);
     std::uint32_t acquire_pair(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t sample,
                                fx::CellMesh& out, fx::MeshChanges& changes);

@@ -575,6 +575,8 @@ struct ContinuousLod::Impl {
         for (auto& list : candidates) list.reserve(reserved_live);
         morph_wakes.reserve(3 * reserved_live); // up to the compaction threshold and a frame's pushes
         changes.vertices.reserve(8 * reserved_live);
+        changes.vertex_heights.reserve(8 * reserved_live);
+        changes.vertex_thicknesses.reserve(8 * reserved_live);
         changes.fans.reserve(reserved_live);
         changes.fan_nodes.reserve(reserved_live);
     }
@@ -794,6 +796,8 @@ LodStats ContinuousLod::update(const LodView& view) {
     m.changes.fans.clear();
     m.changes.fan_nodes.clear();
     m.changes.vertices.clear();
+    m.changes.vertex_heights.clear();
+    m.changes.vertex_thicknesses.clear();
     m.reserve_for_tree();
 
     const bool same_view = m.have_state && view.projection_scale == m.last_view.projection_scale &&
@@ -837,6 +841,11 @@ LodStats ContinuousLod::update(const LodView& view) {
         }
     }
 
+    // The changed vertices' values, read while their records are still in the cache.
+    for (std::uint32_t v : m.changes.vertices) {
+        m.changes.vertex_heights.push_back(m.verts[v].h);
+        m.changes.vertex_thicknesses.push_back(m.layer ? std::max(m.verts[v].t, 0.0f) : 0.0f);
+    }
     stats.triangles = m.triangles;
     stats.live_nodes = m.live;
     stats.morphing_nodes = m.morphing_count;

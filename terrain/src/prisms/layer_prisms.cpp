@@ -127,11 +127,8 @@ namespace {
 constexpr std::uint32_t kNoPair = std::numeric_limits<std::uint32_t>::max();
 }
 
-void LayerPrismTracker::set_points(const ContinuousLod& lod, const LayerPrismOptions& options, std::uint32_t pair,
+void LayerPrismTracker::set_points(const LayerPrismOptions& options, std::uint32_t pair, const glm::dvec3& p, double t,
                                    fx::CellMesh& out, fx::MeshChanges& changes) {
-    const std::uint32_t sample = pair_sample_[pair];
-    const glm::dvec3 p = lod.vertex_position(sample);
-    const double t = lod.vertex_thickness(sample);
     out.points[2 * pair] = p;
     out.points[2 * pair + 1] = p + glm::dvec3(0.0, 0.0, t);
     std::vector<float>& density = out.scalars[0].values;
@@ -168,7 +165,7 @@ std::uint32_t LayerPrismTracker::acquire_pair(const ContinuousLod& lod, const La
     // set_points.
     out.scalars[0].values[2 * pair] = float(bottom_density(options, lod.vertex_position(sample)));
     pair_listed_[pair] = update_count_ - 1; // written anew: listed whatever it was
-    set_points(lod, options, pair, out, changes);
+    set_points(options, pair, lod.vertex_position(sample), lod.vertex_thickness(sample), out, changes);
     return pair;
 }
 
@@ -311,8 +308,15 @@ bool LayerPrismTracker::update(const TerrainLod& lod, const LayerPrismOptions& o
             LodFan fan;
             if (l.fan_of(node, fan)) add_fan(l, options, fan, out, changes);
         }
-        for (std::uint32_t sample : c.vertices)
-            if (sample_pair_[sample] != kNoPair) set_points(l, options, sample_pair_[sample], out, changes);
+        // Positions as vertex_position() makes them, from the values listed with the changes.
+        const HeightField& ground = l.ground();
+        const std::uint32_t n = std::uint32_t(ground.size);
+        for (std::size_t k = 0; k < c.vertices.size(); ++k) {
+            const std::uint32_t sample = c.vertices[k];
+            if (sample_pair_[sample] == kNoPair) continue;
+            const glm::dvec3 p(ground.x(int(sample % n)), ground.y(int(sample / n)), double(c.vertex_heights[k]));
+            set_points(options, sample_pair_[sample], p, c.vertex_thicknesses[k], out, changes);
+        }
         // A cell listed, then moved away and removed in the same update is gone.
         const std::size_t cells = out.cell_count();
         changes.cells.erase(std::remove_if(changes.cells.begin(), changes.cells.end(),

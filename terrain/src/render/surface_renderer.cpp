@@ -73,9 +73,9 @@ void SurfaceRenderer::Impl::upload_lod(const TerrainLod& l, SurfaceStats& stats)
         height_scatter.clear();
         height_scatter.reserve(9 * fans); // a fan touches at most 9 vertices: no allocation in a steady frame
         fan_scatter.reserve(fans);
-        for (std::uint32_t v : changes.vertices) {
-            const float h = relative_height(float(c.vertex_position(v).z));
-            std::memcpy(height_scatter.add(v, 1), &h, 4);
+        for (std::size_t k = 0; k < changes.vertices.size(); ++k) {
+            const float h = relative_height(changes.vertex_heights[k]);
+            std::memcpy(height_scatter.add(changes.vertices[k], 1), &h, 4);
         }
         fan_scatter.clear();
         for (std::uint32_t slot : changes.fans)
