@@ -210,7 +210,8 @@ struct ContinuousLod::Impl {
     double node_scale(std::uint32_t s, int h) const { // T_N = d·C·max(c·d2, 1)
         return 2.0 * h * ground.spacing * settings.min_resolution * std::max(c_eff * double(nodes[s].d2), 1.0);
     }
-    double own_f(std::uint32_t s, int h) const { return glm::length(last_eye - center_position(s)) / node_scale(s, h); }
+    // The node's own f, given its T_N.
+    double own_f(std::uint32_t s, double scale) const { return glm::length(last_eye - center_position(s)) / scale; }
     // The largest f_eff of the coarser nodes a split of s needs (0 for the root).
     double constraint(std::uint32_t s, int h) {
         double f = 0.0;
@@ -226,7 +227,7 @@ struct ContinuousLod::Impl {
     double f_eff(std::uint32_t s, int h, double own = -1.0, double constrained_by = -1.0) {
         if (nodes[s].fe_frame == frame) return nodes[s].fe;
         ++stats->nodes_evaluated;
-        if (own < 0.0) own = own_f(s, h);
+        if (own < 0.0) own = own_f(s, node_scale(s, h));
         if (constrained_by < 0.0) constrained_by = constraint(s, h);
         nodes[s].fe = float(std::max(own, constrained_by));
         nodes[s].fe_frame = frame;
@@ -273,8 +274,8 @@ struct ContinuousLod::Impl {
     }
 
     // `own` is the node's own f and `constrained_by` the largest f_eff of the coarser nodes it
-    // needs split (f = max of the two).
-    void schedule(std::uint32_t s, int h, double f, double own, double constrained_by) {
+    // needs split (f = max of the two); `scale` its T_N.
+    void schedule(std::uint32_t s, double scale, double f, double own, double constrained_by) {
         const bool split = nodes[s].state & kSplit;
         const bool was_morphing = nodes[s].state & kMorph;
         double margin = 0.0;
@@ -294,7 +295,6 @@ struct ContinuousLod::Impl {
             const double x_lo = std::floor(x - 0.5) + 0.5; // the half steps either side of x
             const double f_hi = std::min(1.0, 1.0 - x_lo / (2.0 * steps));
             const double f_lo = std::max(0.5, 1.0 - (x_lo + 1.0) / (2.0 * steps));
-            const double scale = node_scale(s, h);
             morphing_count += was_morphing ? 0 : 1;
             MorphWake w{0.0, 0.0, 0.0, 0.0, -1.0, std::numeric_limits<double>::infinity(), s, ++nodes[s].generation};
             if (constrained_by < own) {
@@ -317,7 +317,6 @@ struct ContinuousLod::Impl {
         const bool now_morphing = nodes[s].state & kMorph;
         morphing_count = morphing_count + (now_morphing ? 1 : 0) - (was_morphing ? 1 : 0);
         // |Δf_eff| ≤ |Δeye| / T_N (module comment); a hair less so rounding cannot skip a crossing.
-        const double scale = node_scale(s, h);
         const double travel = std::max(margin, 0.0) * scale * (1.0 - 1e-6);
         // A heap for the nodes not morphing: they may sleep for a long flight (the morphing ones,
         // due every few frames, are in a list scanned once a frame: see above and advance()).
@@ -355,7 +354,7 @@ struct ContinuousLod::Impl {
         // The coarser nodes' f_eff move by at most |Δeye| / T_N (module comment): while that
         // bound, from the last walk of its constraint chain, stays under its own f, f_eff is
         // its own f and the chain is not walked (an upper bound is all schedule() needs).
-        const double scale = node_scale(s, h), own = own_f(s, h);
+        const double scale = node_scale(s, h), own = own_f(s, scale);
         double constrained_by = nodes[s].constraint_base + odometer / scale;
         if (!(constrained_by < own * (1.0 - 1e-6))) {
             constrained_by = constraint(s, h);
@@ -367,7 +366,7 @@ struct ContinuousLod::Impl {
         const bool want = f < 1.0;
         if (want && !(before & kSplit)) split(s, h);
         else if (!want && (before & kSplit)) merge(s, h);
-        schedule(s, h, f, own, constrained_by);
+        schedule(s, scale, f, own, constrained_by);
         const std::uint8_t after = nodes[s].state;
         if ((before & (kMorph | kSplit)) != (after & (kMorph | kSplit)) || blend(s) != blend_before)
             mark(s, kVertexDirty);
